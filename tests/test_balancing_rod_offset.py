@@ -265,3 +265,21 @@ def test_a_given_rod_offset_a_given_pin_width_contradicts_is_warned_of():
     short = named("17 mm")
     assert len(short) == 1 and "8.5 mm" in short[0] and "bearings.crank_pin_width" in short[0]
     assert named("36 mm") == []
+
+
+def test_the_plan_says_where_the_banks_offset_comes_from():
+    """A V4 whose crank pin is given as 40 mm long: the engine's plan offsets the right bank from
+    the left by one rod's bearing, 20 mm, and says it is the given pin shared by its two rods
+    (the V8 without a pin length: the typical proportions)."""
+    pin = {"engine": V4["engine"], "bearings": {"crank_pin_width": "40 mm"}}
+    plan = shared_run("v8-petrol", pin, stages=["bays"]).outputs["bays"].results["plan"]
+    assert plan["rod_offset_m"] == pytest.approx(0.020) and plan["rod_offset_source"] == "pin_width"
+    html = shared_html("v8-petrol", pin, "en", ("bays",)).linked_html
+    text = html_lib.unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)))
+    assert (
+        "so the right bank's cylinders are offset from the left bank's along the shaft towards "
+        "the flywheel by one big-end bearing's width, 20 mm (the given crank-pin width shared by "
+        "the rods on it)." in text
+    )
+    typical = shared_run("v8-petrol", stages=["bays"]).outputs["bays"].results["plan"]
+    assert typical["rod_offset_source"] == "typical"

@@ -185,9 +185,9 @@ def run(scene, inputs) -> StageOutput:
     layout = engine_layout(scene)
     results = _layout_results(e, layout)
     if layout.cranks > 1:  # a one-crank engine's front-view scheme shows all it has
-        results["plan"] = plan_data(
-            layout, e.bore, e.cylinder_spacing, _rod_offset_m(scene, layout)
-        )
+        offset, source = _rod_offset_m(scene, layout)
+        results["plan"] = plan_data(layout, e.bore, e.cylinder_spacing, offset)
+        results["plan"]["rod_offset_source"] = source
     notes = _firing_notes(scene, layout)
     if scene.firing_order_chosen:
         results["firing_order_chosen"] = True
@@ -385,8 +385,9 @@ def largest_tdc_shift(slaves) -> float:
     return round(max(abs(x["tdc_shift_deg"]) for x in slaves), 2)
 
 
-def _rod_offset_m(scene, layout) -> float:
-    """How far apart along the shaft the cylinders of one crank lie, m: the balancing table's
-    ``rod_offset`` or one big-end bearing's width (:func:`rod_offset_m`), 0 in one plane."""
+def _rod_offset_m(scene, layout) -> tuple[float, str]:
+    """(how far apart along the shaft the cylinders of one crank lie, m; where it comes from):
+    the balancing table's ``rod_offset`` or one big-end bearing's width (:func:`rod_offset_m`),
+    0 in one plane."""
     given = options(scene, "balancing", RodOffsetOptions).rod_offset
-    return rod_offset_m(scene, layout, given, options(scene, "bearings", PinSizeOptions))[0]
+    return rod_offset_m(scene, layout, given, options(scene, "bearings", PinSizeOptions))

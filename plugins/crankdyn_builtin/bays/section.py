@@ -340,23 +340,23 @@ def _plan_parts(r: dict, ctx) -> dict | None:
     )
     offset = ""
     if plan["rod_offset_m"]:
-        given = _rod_offset_given(ctx.scene)
-        offset = t(
-            "bays.plan_offset_propeller"
-            if _take_off_end(ctx) == "bays.plan_propeller"
-            else "bays.plan_offset",
+        two_banks = len(plan["bank_axes_deg"]) == 2  # "the right bank's", not "each next bank's"
+        key = "bays.plan_offset" + ("_two_banks" if two_banks else "")
+        offset = t(  # an aircraft engine's: towards the propeller (its texts' variant)
+            key,
             offset=t.number_g(plan["rod_offset_m"] * 1e3, 3),
-            taken="" if given else t("bays.plan_offset_taken"),
+            taken=_rod_offset_taken(t, plan.get("rod_offset_source")),
         )
     spacing = "" if plan["spacing_m"] else t("bays.plan_spacing_assumed")
     return {"figure": figure, "offset": offset, "spacing": spacing}
 
 
-def _rod_offset_given(scene) -> bool:
-    """True when the scene gives the side-by-side rods' offset ([balancing] rod_offset)."""
-    tables = scene.plugin_tables() if scene is not None else {}
-    balancing = tables.get("balancing", {})
-    return isinstance(balancing, dict) and "rod_offset" in balancing
+def _rod_offset_taken(t, source: str | None) -> str:
+    """Where the rods' offset comes from, as the sentence adds it: nothing for a given offset,
+    the given crank pin's length shared by its rods, or the typical proportions."""
+    return {"given": "", "pin_width": t("bays.plan_offset_pin_width")}.get(
+        source or "", t("bays.plan_offset_taken")
+    )
 
 
 def _second_order_text(r: dict, t) -> str:
