@@ -796,3 +796,24 @@ def test_the_within_limits_sentence_quotes_the_pressures_as_the_table_prints_the
     html = shared_html("petrol-1cyl-uk").linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html).replace("\u202f", " "))
     assert "шатунний підшипник сягає 6,17 МПа, а найбільший – 10,21 МПа" in text
+
+
+@pytest.mark.parametrize(
+    ("application", "said"), [("motorcycle", True), ("marine", True), ("automotive", False)]
+)
+def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_engine(
+    application, said
+):
+    """The allowable bearing pressures of the method are those of car and tractor engines: a
+    motorcycle or marine engine's note says that they only guide it; a car engine's does not."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {"engine": {"application": application}}
+    html = shared_html("petrol-1cyl", changes, "en", ("bearings",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    guide = "are those of automotive and tractor engines [6], and here they serve only as a guide"
+    assert (guide in text) is said
+    if said:
+        assert f"The engine is a {application} engine: the allowable bearing pressures" in text
