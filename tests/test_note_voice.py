@@ -162,13 +162,13 @@ KEPT = {
     "uk": (
         "що в межах допуску посібника 2–3 % [1]",
         "З найбільшим із досліджених кроків, Δα = 22,5°, відносна похибка M_сер зросла б до 7,0 %",
-        "відрізняються від точних значень на 0,022 %, у межах потрібної точності 0,1 %",
+        "відрізняються від точних значень на 0,022 %, у межах точності 0,1 %, прийнятої в цьому розрахунку",
         "найбільша відносна різниця практично нульова",
     ),
     "en": (
         "the reference list",
         "With the coarsest step studied, Δα = 30°, the relative error of M_m would grow to 1.2 %",
-        "differ from their exact values by 0.11 %, more than the required accuracy of 0.1 %",
+        "differ from their exact values by 0.11 %, more than the 0.1 % this calculation aims at",
     ),
 }
 
@@ -296,9 +296,9 @@ def test_a_step_that_misses_the_required_accuracy_says_so_and_names_the_step_tha
     good = [s["angle_step_deg"] for s in r["steps"] if worst(s) <= 1e-5]
     if good:
         finer = f"{max(good):g}".replace(".", ",")
-        expected = f"тобто більше за потрібну точність 0,001 %; цю точність дає крок Δα = {finer}°"
+        expected = f"тобто більше за точність 0,001 %, прийняту в цьому розрахунку; цю точність дає крок Δα = {finer}°"
     else:
-        expected = "тобто більше за потрібну точність 0,001 %; жоден із перевірених кроків"
+        expected = "тобто більше за точність 0,001 %, прийняту в цьому розрахунку; жоден із перевірених кроків"
     assert "З кроком Δα = 1° піки тангенціальної та сумарної сил відрізняються" in text
     assert expected in text, re.search(r"З кроком Δα = 1° піки[^.]*\.", text).group(0)
     assert not re.search(r"Δα = \d+\.\d", text)
