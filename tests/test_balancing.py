@@ -1114,3 +1114,29 @@ def test_the_given_means_radii_and_rod_offset_are_among_the_task_data():
         assert re.search(re.escape(name) + r"\|+" + value + r"\|+mm", table), name
     plain = shared_html("v8-petrol", None, "en", ("balancing",)).linked_html
     assert "Radius of the counterweights' centre of mass" not in plain.replace("&#39;", "'")
+
+
+@pytest.mark.parametrize(
+    ("example", "said"),
+    [
+        # the cross-plane V8's first-order couple turns with the shaft at a constant size (the
+        # counterweights' task), as its centrifugal one does
+        ("v8-petrol", "The free moments act as follows: ΣMC and ΣMI turn with the shaft at a "),
+        # an in-line engine's inertia forces all lie along the vertical cylinder axes: their
+        # couples pulsate in the vertical plane; the centrifugal couple turns with the shaft
+        (
+            "inline3-petrol",
+            "ΣMC turns with the shaft at a constant size; ΣMI, ΣMII, and ΣMIV pulsate in the "
+            "vertical plane through the shaft's axis and rock the engine about a transverse axis.",
+        ),
+    ],
+)
+def test_the_free_moments_motion_is_said_in_words(example, said):
+    import re
+    from html import unescape
+
+    from conftest import shared_html
+
+    html = shared_html(example, None, "en", ("balancing",)).linked_html
+    text = unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)))
+    assert said in text

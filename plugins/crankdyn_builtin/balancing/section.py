@@ -8,7 +8,7 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .figures import _models_figure, models_left_out, star_figure
-from .notation import master_mass, newton_metres, newtons, plain_symbol, scale_symbol
+from .notation import circular, master_mass, newton_metres, newtons, plain_symbol, scale_symbol
 from .options import LEAVE_SHARE, BalancingOptions, flies_without_shafts
 from .tables import (
     NEGLIGIBLE_SHARE,
@@ -17,6 +17,7 @@ from .tables import (
     _masses_table,
     _means_table,
     _summary_table,
+    axis_text,
     coefficients_table,
     offset_couples,
     one_plane,
@@ -631,6 +632,45 @@ def _no_shafts_in_aircraft(ctx, r) -> bool:
     )
 
 
+#: A pulsating moment whose plane lies within this angle of the vertical (the horizontal) is said
+#: to act in the vertical (horizontal) plane, deg: the table prints the plane to 0.1°.
+_PLANE_TOLERANCE_DEG = 0.05
+
+
+def free_moments_sentence(t, r) -> str:
+    """How the engine's free moments (those of the coefficients table that are not negligible,
+    :data:`NEGLIGIBLE_SHARE` of C_I·a) act, in words: a pulsating one in which plane (the
+    vertical one rocks the engine about a transverse axis, the horizontal one swings it about
+    the vertical axis), a rotating one with or against the shaft; "" where there are none (or
+    all cylinders lie in one plane across the shaft)."""
+    if one_plane(r) or len(r["cylinder_labels"]) == 1:
+        return ""
+    alike: dict[tuple[str, str], list[str]] = {}  # the moments that act alike, said together
+    for o in r["orders"]:
+        size = o["moment_coefficient"] * o["amplitude_N"]
+        if size < NEGLIGIBLE_SHARE * r["first_order_N"]:
+            continue
+        hodograph = o["moment_hodograph"]
+        angle = axis_text(t, hodograph["major_axis_deg"])
+        if circular(hodograph):
+            key = "balancing.moment_turns_" + hodograph["sense"]
+        elif hodograph["sense"] != "line":
+            key = "balancing.moment_ellipse_" + hodograph["sense"]
+        else:
+            axis = hodograph["major_axis_deg"] % 180.0
+            vertical = min(axis, 180.0 - axis) <= _PLANE_TOLERANCE_DEG
+            horizontal = abs(axis - 90.0) <= _PLANE_TOLERANCE_DEG
+            key = "balancing.moment_line_" + (
+                "vertical" if vertical else "horizontal" if horizontal else "at"
+            )
+        alike.setdefault((key, angle), []).append(plain_symbol({"quantity": "M_" + o["name"]}))
+    items = [
+        t(key, symbol=t.join_and(symbols), n=len(symbols), angle=angle)
+        for (key, angle), symbols in alike.items()
+    ]
+    return t("balancing.moments_motion", items="; ".join(items)) if items else ""
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     star = star_figure(ctx, r)
@@ -669,6 +709,7 @@ def render(output: StageOutput, ctx) -> str | None:
             else "balancing.unbalanced_forces_moments"
         ),
         rod_offset=_rod_offset_sentence(ctx.t, r),
+        free_moments=free_moments_sentence(ctx.t, r),
         master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(
             "balancing.masses_own"
