@@ -140,6 +140,12 @@ def test_a_flat_plane_v8s_conclusion_leaves_the_rods_couples_out_of_what_balance
     text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
     (itself,) = re.findall(r"The crank arrangement itself balances [^.]*\.", text)
     assert "ΣMI)" in itself and "ΣMII" not in itself and "ΣMIV" not in itself, itself
+    # each bank a flat four, the banks' second-order forces in opposite phase 90° apart: their
+    # sum pulsates across the V, along the horizontal
+    assert (
+        "The free forces act as follows: ΣPII pulsates along the horizontal across the shaft"
+        in text
+    )
 
 
 def test_a_cross_plane_v8s_offset_couples_cancel_but_for_the_fourth_order():

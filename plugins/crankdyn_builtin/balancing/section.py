@@ -637,38 +637,39 @@ def _no_shafts_in_aircraft(ctx, r) -> bool:
 _PLANE_TOLERANCE_DEG = 0.05
 
 
-def free_moments_sentence(t, r) -> str:
-    """How the engine's free moments (those of the coefficients table that are not negligible,
-    :data:`NEGLIGIBLE_SHARE` of C_I·a) act, in words: a pulsating one in which plane (the
-    vertical one rocks the engine about a transverse axis, the horizontal one swings it about
-    the vertical axis), a rotating one with or against the shaft; "" where there are none (or
-    all cylinders lie in one plane across the shaft)."""
-    if one_plane(r) or len(r["cylinder_labels"]) == 1:
+def free_motion_sentence(t, r, kind: str) -> str:
+    """How the engine's free forces (``kind="force"``) or moments (``"moment"``) act, in words:
+    those of the coefficients table that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I, a
+    moment's of C_I·a); a pulsating one along which line (a moment: in which plane; the vertical
+    one rocks the engine about a transverse axis, the horizontal one swings it about the vertical
+    axis), a rotating one with or against the shaft; those that act alike said together. "" where
+    there are none, for one cylinder, and for a moment where all cylinders lie in one plane."""
+    if len(r["cylinder_labels"]) == 1 or (kind == "moment" and one_plane(r)):
         return ""
-    alike: dict[tuple[str, str], list[str]] = {}  # the moments that act alike, said together
+    alike: dict[tuple[str, str], list[str]] = {}
     for o in r["orders"]:
-        size = o["moment_coefficient"] * o["amplitude_N"]
-        if size < NEGLIGIBLE_SHARE * r["first_order_N"]:
+        if o[f"{kind}_coefficient"] * o["amplitude_N"] < NEGLIGIBLE_SHARE * r["first_order_N"]:
             continue
-        hodograph = o["moment_hodograph"]
+        hodograph = o[f"{kind}_hodograph"]
         angle = axis_text(t, hodograph["major_axis_deg"])
         if circular(hodograph):
-            key = "balancing.moment_turns_" + hodograph["sense"]
+            key = f"balancing.{kind}_turns_" + hodograph["sense"]
         elif hodograph["sense"] != "line":
-            key = "balancing.moment_ellipse_" + hodograph["sense"]
+            key = f"balancing.{kind}_ellipse_" + hodograph["sense"]
         else:
             axis = hodograph["major_axis_deg"] % 180.0
             vertical = min(axis, 180.0 - axis) <= _PLANE_TOLERANCE_DEG
             horizontal = abs(axis - 90.0) <= _PLANE_TOLERANCE_DEG
-            key = "balancing.moment_line_" + (
+            key = f"balancing.{kind}_line_" + (
                 "vertical" if vertical else "horizontal" if horizontal else "at"
             )
-        alike.setdefault((key, angle), []).append(plain_symbol({"quantity": "M_" + o["name"]}))
+        quantity = ("M_" if kind == "moment" else "sum_") + o["name"]
+        alike.setdefault((key, angle), []).append(plain_symbol({"quantity": quantity}))
     items = [
         t(key, symbol=t.join_and(symbols), n=len(symbols), angle=angle)
         for (key, angle), symbols in alike.items()
     ]
-    return t("balancing.moments_motion", items="; ".join(items)) if items else ""
+    return t(f"balancing.{kind}s_motion", items="; ".join(items)) if items else ""
 
 
 def render(output: StageOutput, ctx) -> str | None:
@@ -709,7 +710,9 @@ def render(output: StageOutput, ctx) -> str | None:
             else "balancing.unbalanced_forces_moments"
         ),
         rod_offset=_rod_offset_sentence(ctx.t, r),
-        free_moments=free_moments_sentence(ctx.t, r),
+        free_motion=" ".join(
+            filter(None, (free_motion_sentence(ctx.t, r, kind) for kind in ("force", "moment")))
+        ),
         master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(
             "balancing.masses_own"
