@@ -396,3 +396,36 @@ def test_a_single_cylinders_torque_is_the_engines(language, engines, crank):
     text = " ".join(re.sub(r"<[^>]+>", "", html).split())
     assert text.count(engines) >= 3
     assert not any(words in text for words in crank), [w for w in crank if w in text]
+
+
+def test_the_gas_forces_excess_work_is_the_gas_torques_own():
+    """ΔL of the gas forces alone, against an independent gas torque of the single cylinder:
+    M_g = (p − p₀)F_p·R·sin(α + β)/cos β from the forces stage's gas pressure and the exact rod
+    angle sin β = λ sin α, its excess work by hand (cumulative sum of M_g − mean)."""
+    changes = {"flywheel": {"required_irregularity": 0.01}}
+    result = shared_run("petrol-1cyl", changes, ("forces", "flywheel"))
+    r = result.outputs["flywheel"].results
+    crank = result.outputs["forces"].data["forces"]
+    e = result.scene.engine
+    alpha = np.radians(crank.crank_angle_deg)
+    beta = np.arcsin(e.rod_ratio_value * np.sin(alpha))
+    gas = (
+        crank.gas_Pa * crank.piston_area_m2 * e.crank_radius_m * np.sin(alpha + beta) / np.cos(beta)
+    )
+    step = alpha[1] - alpha[0]
+    work = (
+        np.concatenate([[0.0], np.cumsum(0.5 * ((gas - gas.mean())[1:] + (gas - gas.mean())[:-1]))])
+        * step
+    )
+    assert r["excess_work_gas_J"] == pytest.approx(np.ptp(work), rel=2e-3)
+    # the inertia forces of a single cylinder at 5600 rpm change ΔL by more than a few per cent,
+    # and the section says by how much
+    added = r["excess_work_J"] - r["excess_work_gas_J"]
+    assert abs(added) > 0.05 * r["excess_work_J"]
+    from conftest import shared_html
+
+    page = shared_html("petrol-1cyl", changes, "en", ("flywheel",)).linked_html
+    text = html_lib.unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page)))
+    said = re.search(r"would give an excess work of ([\d.]+) J: at n = 5600 rpm the inertia", text)
+    assert said and float(said.group(1)) == pytest.approx(r["excess_work_gas_J"], rel=1e-3)
+    assert ("add" if added > 0 else "lower it by") in text[said.end() : said.end() + 60]

@@ -151,6 +151,16 @@ def _excess_results(excess, torque) -> dict:
     }
 
 
+def gas_excess_work_J(torque, train) -> float:
+    """ΔL of the gas forces' torque alone, J: the output torque with the reciprocating masses'
+    inertia torque −½J′(α)ω² taken out (:func:`sf.gas_torque_Nm`), which shows how much of ΔL
+    the inertia forces make at the scene's speed."""
+    alpha = np.radians(torque.crank_angle_deg)
+    _, derivative = train.series()(alpha)
+    gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, torque.angular_velocity_rad_s)
+    return float(fw.excess_work(alpha, gas).excess_work_J)
+
+
 def exact_design(torque, train, engine_inertia, required_irregularity, energy_flywheel):
     """The exact periodic solution's check of the energy method's flywheel: (the exact δ with it,
     the flywheel for which that solution gives ``required_irregularity``, or None when the exact δ
@@ -239,6 +249,7 @@ def run(scene, inputs) -> StageOutput:
     results: dict = {
         "angular_velocity_rad_s": omega,
         **_excess_results(excess, torque),
+        "excess_work_gas_J": gas_excess_work_J(torque, train),
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "counterweight_inertia_kg_m2": counterweights,
