@@ -1340,14 +1340,14 @@ def test_a_boosted_engines_pumping_work_is_called_a_gain():
 
 
 def test_an_aircraft_engines_left_out_torsion_has_a_reason_that_covers_it(reports):
-    """ "Не розраховано маховик, нерівномірність обертання і крутильні коливання: авіаційний
-    двигун не має маховика" gave no reason for the torsion and the speed's fluctuation, which a
-    propeller's inertia would allow: the reason says that the assignment gives none."""
+    """An aircraft engine without its propeller's inertia: the sections left out are named by
+    their titles for a propeller, and the reason covers the torsion and the speed's fluctuation
+    too, which that inertia would allow: the assignment gives none."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
     assert re.search(
-        r"У записці не розраховано маховик, [^:]*крутильні коливання: авіаційний двигун не має "
-        r"маховика \(його роль виконує повітряний гвинт\), а момент інерції гвинта в завданні "
-        r"не вказано\.",
+        r"У записці не розраховано нерівномірність обертання з повітряним гвинтом, [^:]*крутильні "
+        r"коливання: авіаційний двигун не має маховика \(його роль виконує повітряний гвинт\), а "
+        r"момент інерції гвинта в завданні не вказано\.",
         text,
     )
 

@@ -173,7 +173,9 @@ def check_sections_in_html(name, result, html):
     assert not absent & set(sections), sections
     # every stage left out for what the scene lacks is listed with its reason in the method notes;
     # one for another mechanism, or whose content another section gives, is not (results.json has it)
-    t = translator("en", REGISTRY.catalogs)
+    from crankdyn.report.document import text_variant
+
+    t = translator("en", REGISTRY.catalogs, text_variant(result.scene))  # as the report's
     for stage, reason in result.plan.skipped.items():
         title = t(REGISTRY.stages[stage].presentation.title_key)
         line = escape(t("doc.skipped_stage", stage=title, reason=skipped_reason(t, reason)))

@@ -499,7 +499,7 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     return tuple(forms)
 
 
-def _text_variant(scene) -> str | None:
+def text_variant(scene) -> str | None:
     """The variant of the catalogs' texts for ``scene``'s engine (:class:`Translator`): an
     aircraft engine's propeller takes the flywheel's part."""
     return "propeller" if getattr(scene.engine, "application", None) == "aircraft" else None
@@ -571,7 +571,7 @@ def _render_context(result, registry, language: str) -> RenderContext:
     """The rendering state of the report of ``result`` in ``language``."""
     scene = result.scene
     return RenderContext(
-        t=translator(language, registry.catalogs, _text_variant(scene)),
+        t=translator(language, registry.catalogs, text_variant(scene)),
         env=_environment(registry, result),
         table_step_deg=scene.analysis.table_step_deg,
         cycle_deg=scene.engine.cycle_deg,
