@@ -908,3 +908,53 @@ def test_the_layout_pass_leaves_out_the_running_page_number_at_the_top_or_the_bo
         ["Продолжение таблицы 1.1", "4 5 6"],
         ["7 8 9", "14"],
     ]
+
+
+def test_a_short_table_keeps_on_one_page_and_a_long_one_may_break():
+    """Up to SHORT_TABLE_ROWS body rows every row but the last keeps with the next (the table
+    moves whole to the next page); a longer one keeps only its first and last rows together."""
+    from crankdyn.report import docx_blocks
+
+    def kept(rows: int) -> list[bool]:
+        body = "".join(f"<tr><td>{k}</td><td>{k / 7:.2f}</td></tr>" for k in range(rows))
+        node = word.parse_html(
+            f"<table><thead><tr><th>k</th><th>x</th></tr></thead><tbody>{body}</tbody></table>"
+        ).children[0]
+        xml, _ = docx_blocks.table(node, word.TEXT_WIDTH, False)
+        return ["<w:keepNext/>" in r for r in re.findall(r"<w:tr>.*?</w:tr>", xml, flags=re.S)]
+
+    short = kept(docx_blocks.SHORT_TABLE_ROWS)
+    assert short == [True] * docx_blocks.SHORT_TABLE_ROWS + [False]  # the header row first
+    long = kept(docx_blocks.SHORT_TABLE_ROWS + 8)
+    assert long[:3] == [True] * 3 and long[-3:] == [True, True, False]
+    assert not any(long[3:-3])
+
+
+def test_a_number_grouped_with_no_break_spaces_is_one_word_for_the_column_width():
+    """ "−19 891" (a narrow no-break space between its groups) cannot break in Word: a column
+    is at least as wide as the whole number, as it is for a plain word of that length."""
+    from crankdyn.report import docx_blocks
+
+    grouped = docx_blocks._longest_word("\u221219\u202f891")
+    assert grouped == pytest.approx(docx_blocks.text_ems("\u221219\u202f891"))
+    assert docx_blocks._longest_word("19 891") < grouped  # an ordinary space may break
+    assert docx_blocks._longest_word("8,675\u00a0МПа") == docx_blocks.text_ems("8,675\u00a0МПа")
+
+
+def test_a_square_root_over_a_bracket_is_a_word_radical():
+    """q = √((z + c)² + t²): the root sign and its bracket become one m:rad over the bracket's
+    content (Word draws the sign and its bar over the whole radicand); a root sign with no
+    bracket after it stays a character."""
+    from crankdyn.report import docx_math
+
+    node = word.parse_html(
+        "<span><i>q</i> = √((<i>z</i> + <i>c</i>)<sup>2</sup> + <i>t</i><sup>2</sup>)</span>"
+    ).children[0]
+    xml = docx_math.omml(node, 28)
+    (radicand,) = re.findall(r"<m:rad>.*?<m:deg/><m:e>(.*)</m:e></m:rad>", xml, flags=re.S)
+    assert "√" not in xml and '<m:degHide m:val="1"/>' in xml
+    letters = re.findall(r"<m:t[^>]*>([^<]*)</m:t>", radicand)
+    assert "".join(letters).replace(" ", "") == "z+c2+t2"  # the whole radicand, no outer bracket
+    assert radicand.count("<m:d>") == 1  # (z + c) keeps its own bracket
+    plain = word.parse_html("<span>√2 · <i>A</i></span>").children[0]
+    assert "<m:rad>" not in docx_math.omml(plain, 28) and "√" in docx_math.omml(plain, 28)

@@ -257,10 +257,15 @@ def text_ems(text: str) -> float:
     return sum(0.25 if c.isspace() else 0.72 if c.isupper() else TEXT_EM for c in text)
 
 
+#: Where a line may break: white space but the no-break spaces (a number's group separator
+#: "19 891", "8,675 МПа"), and after a range's dash or a slash.
+_BREAK = re.compile(r"[^\S\u00a0\u2007\u202f]+|(?<=[–/])")
+
+
 def _longest_word(text: str) -> float:
-    """The width in ems of the longest piece of ``text`` a line cannot break: words, and ranges
-    after their dash ("60–")."""
-    return max((text_ems(w) for w in re.split(r"\s+|(?<=[–/])", text)), default=0.0)
+    """The width in ems of the longest piece of ``text`` a line cannot break: words (a number
+    with its no-break group separators is one), and ranges after their dash ("60–")."""
+    return max((text_ems(w) for w in _BREAK.split(text)), default=0.0)
 
 
 def _candidate_widths(rows: list[list], header_rows: int, size: int) -> list[list[float]]:
@@ -342,6 +347,12 @@ def _identity(node, continued: str) -> str:
     )
 
 
+#: A table of at most this many body rows is kept on one page in Word (a third of a page of
+#: table rows at the body's line spacing): split, it would leave a few rows and their header
+#: under a "continued" label on the next page.
+SHORT_TABLE_ROWS = 12
+
+
 def table(
     node, text_width: int, wide: bool, continued: str = "", note: bool = False
 ) -> tuple[str, int]:
@@ -349,7 +360,9 @@ def table(
     A numbered table carries its number and its continuation label ("Table N continued") as its
     caption and description (``w:tblCaption``, ``w:tblDescription``), for the page pass.
     As in the PDF, the header and the first two rows keep together (under the caption before
-    them), and so do the last rows and the table's ``note`` after them."""
+    them), and so do the last rows and the table's ``note`` after them; a table of at most
+    :data:`SHORT_TABLE_ROWS` rows keeps whole, moving to the next page rather than leaving a few
+    rows under a "continued" label there."""
     classes = node.classes()
     head = [
         r for part in node.children if part.tag == "thead" for r in part.children if r.tag == "tr"
@@ -378,6 +391,8 @@ def table(
     keep |= set(
         range(len(head) + max(0, len(body) - 3), len(head) + len(body) - 1)
     )  # the last three
+    if len(body) <= SHORT_TABLE_ROWS:
+        keep |= set(range(len(head) + len(body) - 1))
     if note:
         keep.add(len(head) + len(body) - 1)
     for k, (row_node, cells) in enumerate(zip(head + body, rows, strict=False)):

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 OPENING = {"(": ")", "[": "]", "{": "}"}
 CLOSING = {v: k for k, v in OPENING.items()}
 BAR = "|"
+#: The square root sign: with a bracket after it, the radical over the bracket's content.
+RADICAL = "√"
 #: Characters the HTML carries for line breaking only (word joiner, soft hyphen, zero-width space).
 INVISIBLE = dict.fromkeys(map(ord, "\u2060\u00ad\u200b"), None)
 _FROM_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789−")
@@ -48,7 +50,8 @@ class Item:
 
     xml: str
     width: float
-    # "run", "sub" (an m:sSub, which a following superscript joins), "d", "operator", "space", "gap"
+    # "run", "sub" (an m:sSub, which a following superscript joins), "d", "operator", "space",
+    # "gap", "radical" (a root sign, waiting for its bracket)
     kind: str = "run"
     base: str = ""
     script: str = ""
@@ -81,6 +84,16 @@ def delimiter(opening: str, closing: str, content: str, size: int) -> str:
         f'<m:endChr m:val="{htmlmod.escape(closing)}"/><m:grow/>'
         f"<m:ctrlPr>{_text_properties('Cambria Math', size)}</m:ctrlPr></m:dPr>"
         f"<m:e>{content}</m:e></m:d>"
+    )
+
+
+def radical(content: str, size: int) -> str:
+    """An m:rad (a square root, its degree hidden) over ``content``: the root sign Word draws
+    itself, its bar over the whole radicand."""
+    return (
+        f'<m:rad><m:radPr><m:degHide m:val="1"/>'
+        f"<m:ctrlPr>{_text_properties('Cambria Math', size)}</m:ctrlPr></m:radPr>"
+        f"<m:deg/><m:e>{content}</m:e></m:rad>"
     )
 
 
@@ -131,6 +144,15 @@ class _Builder:
         if char == BAR and top == BAR or char in CLOSING and top == CLOSING[char]:
             opening, items = self.frames.pop()
             closing = BAR if char == BAR else char
+            if opening == "(" and self.items and self.items[-1].kind == "radical":
+                self.items.pop()  # "√(…)": a radical over the bracket's content, as typeset
+                self.add(
+                    Item(
+                        radical("".join(i.xml for i in items), self.size),
+                        sum(i.width for i in items) + 1.5 * CHAR_EM,
+                    )
+                )
+                return
             self.add(
                 Item(
                     delimiter(opening, closing, "".join(i.xml for i in items), self.size),
@@ -223,6 +245,8 @@ def _tokens(builder: _Builder, text: str, italic: bool, bold: bool) -> None:
                 builder.text(value, "b" if bold else "p")
         elif value in OPENING or value in CLOSING or value == BAR:
             builder.delimiter_char(value)
+        elif value == RADICAL:  # its bracket, when it closes on this line, makes an m:rad
+            builder.add(Item(_run(value, "p", builder.size), CHAR_EM, "radical"))
         elif value in OPERATORS:
             builder.add(builder.operator(value))
         elif value in ORDINARY:  # a character LibreOffice Math reads as an operator of its own
