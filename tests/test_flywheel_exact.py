@@ -294,3 +294,22 @@ def test_the_balance_shafts_turn_geared_to_the_shaft_in_the_flywheels_inertia():
     train_mean = crank_train(result.scene, bays).series().mean_kg_m2
     own = train_mean + fly["counterweight_inertia_kg_m2"] + expected
     assert fly["mechanism_inertia_mean_kg_m2"] == pytest.approx(own, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("balance_orders", "said"), [([1], "shaft found"), ([1, 2], "shafts found")]
+)
+def test_the_balance_shafts_sentence_counts_them(balance_orders, said):
+    """One balance shaft (a single cylinder's first order) is said in the singular, a first- and
+    a second-order shaft in the plural."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {
+        "flywheel": {"required_irregularity": 0.01},
+        "balancing": {"balance_orders": balance_orders},
+    }
+    page = shared_html("petrol-1cyl", changes, "en", ("balancing", "flywheel")).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page))
+    assert f"The balance {said} in section" in text

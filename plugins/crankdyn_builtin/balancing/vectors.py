@@ -200,6 +200,7 @@ def _fitted(
                 for mass in shaft["masses"]
             )
         ),
+        balance_shafts=len(shafts),
     )
 
 

@@ -202,13 +202,18 @@ def _raise_results(exact_energy, raised, energy_flywheel) -> dict:
     }
 
 
-def _balancing_inertia(inputs) -> tuple[float, float]:
+def _balancing_inertia(inputs) -> tuple[float, float, int]:
     """(Σ m ρ² of the counterweights the balancing fits, which turn with the shaft; Σ m ρ² n² of
-    its balance shafts' masses, reduced to the crankshaft), kg m² (0 without them)."""
+    its balance shafts' masses, reduced to the crankshaft, kg m² (0 without them); how many
+    balance shafts there are)."""
     fitted = inputs.get(COUNTERWEIGHTS)
     if fitted is None:
-        return 0.0, 0.0
-    return fitted.moment_of_inertia_kg_m2, fitted.balance_shaft_inertia_kg_m2
+        return 0.0, 0.0, 0
+    return (
+        fitted.moment_of_inertia_kg_m2,
+        fitted.balance_shaft_inertia_kg_m2,
+        fitted.balance_shafts,
+    )
 
 
 def _required(opts, excess_work_J: float, omega: float, own: float):
@@ -227,7 +232,7 @@ def run(scene, inputs) -> StageOutput:
     excess = fw.excess_work(alpha, torque.torque_Nm)
     train = crank_train(scene, bays)
     train_mean = train.series().mean_kg_m2
-    counterweights, balance_shafts = _balancing_inertia(inputs)
+    counterweights, balance_shafts, shaft_count = _balancing_inertia(inputs)
     fitted = counterweights + balance_shafts  # on the webs, geared to the shaft: constant, in J_m
     mechanism = train_mean + fitted
     shaft = opts.engine_inertia + fitted  # the constant added to the crank train's J(α)
@@ -254,6 +259,7 @@ def run(scene, inputs) -> StageOutput:
         "engine_inertia_kg_m2": opts.engine_inertia,
         "counterweight_inertia_kg_m2": counterweights,
         "balance_shaft_inertia_kg_m2": balance_shafts,
+        "balance_shaft_count": shaft_count,
         "own_inertia_kg_m2": own,
         "required_irregularity": opts.required_irregularity,
         "required_total_inertia_kg_m2": required_total,

@@ -183,6 +183,7 @@ class Counterweights:
     angle_from_crank_rad: np.ndarray
     moment_of_inertia_kg_m2: float = 0.0
     balance_shaft_inertia_kg_m2: float = 0.0
+    balance_shafts: int = 0  # how many balance shafts are fitted
 
 
 @dataclass(frozen=True)
