@@ -74,6 +74,7 @@ def render(output: StageOutput, ctx) -> str | None:
         journal_names=journal_names,
         pins_equal=pins_equal,
         application=ctx.scene.engine.application if ctx.scene is not None else None,
+        other_applications=OTHER_APPLICATIONS,
         rolling=_rolling_supports(ctx.scene),
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
@@ -404,6 +405,25 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     rolling = _rolling_supports(ctx.scene)
     if rolling:  # the plain-bearing figures above are a guide only for such supports
         ctx.conclude(t("bearings.conclusion_" + rolling))
+    elif _guided_application(ctx, r):
+        ctx.conclude(_guided_application(ctx, r))
+
+
+#: The applications whose engines the car and tractor engines' allowable pressures only guide.
+OTHER_APPLICATIONS = ("stationary", "marine", "aircraft", "motorcycle")
+
+
+def _guided_application(ctx, r) -> str:
+    """Where this engine is not a car or tractor engine (and runs on plain bearings), the
+    conclusion that the car and tractor engines' allowable pressures of its verdicts only guide
+    it; "" otherwise."""
+    scene, t = ctx.scene, ctx.t
+    if scene is None or not (r.get("crank_pins") or r.get("main_journals")):
+        return ""
+    application = scene.engine.application
+    if application not in OTHER_APPLICATIONS:
+        return ""
+    return t("bearings.conclusion_allowables_guide", kind=t(f"bearings.application_{application}"))
 
 
 def _rolling_supports(scene) -> str | None:
