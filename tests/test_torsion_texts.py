@@ -113,3 +113,27 @@ def test_a_default_rtol_is_tightened_until_the_cycles_repeat():
     default = steady({})
     assert default["steady_state"]["converged"] and default["steady_state"]["cycles"] <= 10
     assert default["solver"]["rtol"] < 1e-4
+
+
+def test_a_torsional_model_without_a_flywheel_names_its_reference_crank():
+    """A loose [δ] the engine's own inertia meets needs no flywheel: the torsional chain then
+    ends at the last crank, its reference disc, and the section says so instead of naming a
+    flywheel the model does not have."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    changes = {"flywheel": {"required_irregularity": 0.2, "engine_inertia": "0.2 kg*m^2"}}
+    run = shared_run("inline4-torsion", changes, ("speed_fluctuation",))
+    torsion = run.outputs["speed_fluctuation"].results["torsion"]
+    assert [node["name"] for node in torsion["nodes"]][-1] == "crank 4"
+    assert run.outputs["flywheel"].results["own_inertia_sufficient"]
+    page = shared_html("inline4-torsion", changes, "en", ("speed_fluctuation",))
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page.linked_html))
+    assert (
+        "the flywheel section found no flywheel needed at this speed, so the chain ends at "
+        "crank 4" in text
+    )
+    assert "The first natural frequency of the crankshaft without a flywheel is" in text
+    assert "speeds of crank 4 (the reference disc) and of crank 1" in text
+    assert "with the flywheel is" not in text and "The flywheel's irregularity" not in text

@@ -142,12 +142,25 @@ def _torsion_figure(ctx, tf, torsion, node_names, parts) -> None:
     torque in every span, over the shaft angle."""
     # a run that did not settle shows its last cycle: said so, not called the steady state
     last = "" if torsion["steady_state"]["converged"] else "_last"
+    bare = no_flywheel(torsion)
     parts["figure_torsion"] = ctx.figure(
         partial(_torsion_plot, tf, torsion, node_names, ctx.cycle_deg, ctx.t),
-        ctx.t("speed_fluctuation.torsion_caption" + last),
+        ctx.t("speed_fluctuation.torsion_caption" + last + bare, last=last_crank(torsion)),
         "torsion",
-        see="speed_fluctuation.see_torsion" + last,
+        see="speed_fluctuation.see_torsion" + last + bare,
+        see_params={"last": last_crank(torsion)},
     )
+
+
+def no_flywheel(torsion) -> str:
+    """The catalog keys' ending of a torsional model without a flywheel disc (the flywheel stage
+    found none needed): "_no_flywheel", its reference disc the last crank; "" with one."""
+    return "" if any(node["name"] == "flywheel" for node in torsion["nodes"]) else "_no_flywheel"
+
+
+def last_crank(torsion) -> int:
+    """The number of the last crank of the torsional model's chain."""
+    return sum(node["name"].startswith("crank ") for node in torsion["nodes"])
 
 
 def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
@@ -182,7 +195,11 @@ def _torsion_plot(tf, torsion, node_names, cycle_deg, t):
         )
     axes[1].set_ylabel(t("speed_fluctuation.axis_span_torque"))
     axes[1].legend(loc="upper right", fontsize=8, ncol=3)
-    crank_angle_axis(axes[1], cycle_deg, t("speed_fluctuation.axis_shaft_angle"))
+    crank_angle_axis(
+        axes[1],
+        cycle_deg,
+        t("speed_fluctuation.axis_shaft_angle" + no_flywheel(torsion), last=last_crank(torsion)),
+    )
     return fig
 
 

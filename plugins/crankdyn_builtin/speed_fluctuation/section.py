@@ -8,7 +8,7 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.scene import options
 from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
 
-from .figures import _error_figure, _speed_figure
+from .figures import _error_figure, _speed_figure, last_crank, no_flywheel
 from .options import TorsionOptions
 from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
@@ -61,6 +61,14 @@ def _raised_conclusion(ctx, r) -> str | None:
         energy=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
         deviation=ctx.num(r["irregularity_deviation_percent"], 2),
     )
+
+
+def _chain_end(torsion) -> dict:
+    """How the torsional chain ends, for its texts: ``bare``, the keys' ending of a chain without
+    a flywheel disc (:func:`no_flywheel`), and ``last``, its last crank, then the reference disc."""
+    if not torsion:
+        return {"bare": "", "last": 0}
+    return {"bare": no_flywheel(torsion), "last": last_crank(torsion)}
 
 
 def render(output: StageOutput, ctx) -> str:
@@ -127,6 +135,7 @@ def render(output: StageOutput, ctx) -> str:
         "sections/speed_fluctuation.html.j2",
         r=r,
         torsion=torsion,
+        **_chain_end(torsion),
         delta_digits=digits,
         cylinders=ctx.scene.engine.cylinders,
         cranks=engine_layout(ctx.scene).cranks,

@@ -9,7 +9,13 @@ from markupsafe import Markup
 
 from crankdyn.plugin.types import StageOutput
 
-from .figures import _campbell_plot, _error_figure, _modes_figure, _torsion_figure
+from .figures import (
+    _campbell_plot,
+    _error_figure,
+    _modes_figure,
+    _torsion_figure,
+    no_flywheel,
+)
 from .solver_text import _solver_table
 from .torsion import CRITICAL_BAND
 
@@ -145,7 +151,7 @@ def _torsion_parts(ctx, output: StageOutput, torsion, course: bool = False) -> d
         conclusion = "speed_fluctuation.conclusion_torsion_last"
     ctx.conclude(
         t(
-            conclusion,
+            conclusion + no_flywheel(torsion),
             f1=ctx.num(modes[0]["natural_frequency_Hz"]) if modes else "—",
             method=torsion["solver"]["method"],
             twist=ctx.num(max(torsion["twist_max_rad"]) * 1e3),
