@@ -205,9 +205,8 @@ def test_time_stepping_reproduces_the_exact_solution_directly():
         run = sf.run_solver(rhs, (0, exact.cycle_time_s), y0, method, 1e-9, [1e-12, 1e-9])
         assert run.success
         assert sf.phase_error(run, exact) < 1e-6  # global error of a whole cycle at rtol 1e-9
-        assert run.y[0, -1] == pytest.approx(
-            4 * np.pi, abs=1e-6
-        )  # one cycle in the exact cycle time
+        # one cycle in the exact cycle time, to the global error of rtol 1e-9 over a cycle
+        assert run.y[0, -1] == pytest.approx(4 * np.pi, abs=2e-6)
 
 
 def test_stability_polynomial_of_rk45():

@@ -127,6 +127,7 @@ def run(
             )
         )
         results.update(peak_lowered=lowered, peak_on_isobar=_isobar_point(scene, params, clearance))
+        results["pressure_rise_limited"] = _rise_limited(scene, params, rounding)
         drawn = rounding
         results["closed_form_check"] = _closed_form_check(scene, params, results)
         notes.append(_rounding_note(scene, rounding))
@@ -197,6 +198,21 @@ def _peak_on_isobar(scene, params) -> bool:
     )
 
 
+def _rise_limited(scene, params, rounding) -> dict | None:
+    """Where the usual rise to c″ would give p_c″ above (1 + the largest share) p_c and a quarter
+    of p_c is taken instead: the ratio p_c″/p_c the usual rise would give; else None."""
+    if "pressure_rise_to_tdc" in scene.cycle.rounding.model_fields_set:
+        return None
+    if rounding.pressure_rise_to_tdc_Pa >= ind.USUAL_PRESSURE_RISE_PA:
+        return None
+    p_c = rounding.pressure_rise_to_tdc_Pa / ind.LARGEST_PRESSURE_RISE_SHARE  # the cycle's own
+    return {
+        "usual_Pa": ind.USUAL_PRESSURE_RISE_PA,
+        "usual_ratio": 1.0 + ind.USUAL_PRESSURE_RISE_PA / p_c,
+        "share": ind.LARGEST_PRESSURE_RISE_SHARE,
+    }
+
+
 def _isobar_point(scene, params, clearance: float) -> dict | None:
     """Where :func:`_peak_on_isobar`: the share of the isobar z′ lies at and its volume
     V_c(1 + share·(ρ − 1)), m³; else None."""
@@ -210,10 +226,10 @@ def _isobar_point(scene, params, clearance: float) -> dict | None:
 
 
 def _rounding_taken(scene, motion, params, area: float, clearance: float):
-    """The scene's rounding (:func:`rounding_parameters`), a diesel's peak Z' on its isobar where
-    :func:`_peak_on_isobar` (:func:`ind.isobar_peak_angle_deg`: there the theoretical pressure is
-    p_z, so p_z′ = p_z keeps the actual diagram inside the theoretical one). The one-diagram and
-    the many-diagram runs take it alike, from the mechanism's own volume function."""
+    """The scene's rounding (:func:`rounding_parameters`), a diesel's peak Z' on its isobar where :func:`_peak_on_isobar` (:func:`ind.isobar_peak_angle_deg`: there the
+    theoretical pressure is p_z, so p_z′ = p_z keeps the actual diagram inside the theoretical
+    one). The one-diagram and the many-diagram runs take it alike, from the mechanism's own
+    volume function."""
     rounding = rounding_parameters(scene)
     if not _peak_on_isobar(scene, params):
         return rounding

@@ -57,6 +57,7 @@ from .steps import (
     Timing,
     _motion,
     best_times,
+    drawn_rounding,
     needed_stages,
     run_at_step,
     scene_with_step,
@@ -123,7 +124,7 @@ def time_steps(
     """
     motion = _motion(runs[0])
     try:
-        model = PointwiseModel(scene, motion)
+        model = PointwiseModel(scene, motion, drawn_rounding(runs[0]))
     except ValueError:
         model = None
     if model is None:

@@ -36,7 +36,7 @@ from crankdyn.scene import (
     Scene,
 )
 
-from .steps import StepRun, _motion, best_times, run_at_step
+from .steps import StepRun, _motion, best_times, drawn_rounding, run_at_step
 
 FALLBACK_REFERENCE_STEP_DEG = 0.05
 
@@ -83,7 +83,7 @@ class PointwiseModel:
     _FD_STEP_ARM_DEG = 0.01
     _FD_STEP_ACCEL_DEG = 0.05
 
-    def __init__(self, scene: Scene, motion=None):
+    def __init__(self, scene: Scene, motion=None, rounding=None):
         e, m, c = scene.engine, scene.masses, scene.cycle
         self.scene = scene
         self.analytic = e.mechanism == "crank_slider"
@@ -127,7 +127,9 @@ class PointwiseModel:
         else:
             self._trace = None
             self._params = dataclasses.replace(cycle_parameters(scene), bdc_deg=self._bdc_deg)
-            self._rounding = rounding_parameters(scene)
+            # the rounding's parameters as the indicator drew them (given: the run's), else the
+            # scene's
+            self._rounding = rounding if rounding is not None else rounding_parameters(scene)
             opening = self._rounding.exhaust_opens_before_bdc_deg
             if e.strokes == 2 and opening > 0 and not self.analytic:
                 # the exhaust ports' lost stroke fraction, as the indicator diagram takes it: by
@@ -323,7 +325,7 @@ def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
             time.perf_counter() - start,
             note=f"{FALLBACK_REFERENCE_STEP_DEG:g}",
         )
-    model = PointwiseModel(scene, motion)
+    model = PointwiseModel(scene, motion, drawn_rounding(sample))
     work, mean = model.integrals(PANEL_DEG)
     work_coarse, mean_coarse = model.integrals(2 * PANEL_DEG)
     cycle_rad = math.radians(e.cycle_deg)

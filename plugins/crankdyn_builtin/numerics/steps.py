@@ -199,3 +199,16 @@ def best_times(
 
 def _motion(run: StepRun):
     return next((o.data[KINEMATICS] for o in run.outputs.values() if KINEMATICS in o.data), None)
+
+
+def drawn_rounding(run: StepRun):
+    """The rounding the run's indicator diagram was drawn with (a lowered peak, a diesel's peak
+    on its isobar), which the pointwise model takes too; None for a trace or without one."""
+    return next(
+        (
+            o.data[GAS_PRESSURE].rounding
+            for o in run.outputs.values()
+            if GAS_PRESSURE in o.data and getattr(o.data[GAS_PRESSURE], "rounding", None)
+        ),
+        None,
+    )

@@ -1346,6 +1346,23 @@ def peak_pressure_Pa(
     return _peak_at(lines, rounding)
 
 
+#: The pressure rise from the end of compression c to TDC c″ the rounding takes by default, Pa
+#: (Poda 2007 section 3.1: 0.4-0.6 MPa for most engines), and its largest share of p_c
+#: (Kolchin and Demidov: p_c″ = (1.15-1.25) p_c), which an engine of a low compression end
+#: pressure (a low compression ratio, a two-stroke's lost stroke) keeps to.
+USUAL_PRESSURE_RISE_PA = 0.5e6
+LARGEST_PRESSURE_RISE_SHARE = 0.25
+
+
+def usual_pressure_rise_Pa(params) -> float:
+    """The rise p_c″ − p_c the rounding takes where the scene gives none, Pa:
+    :data:`USUAL_PRESSURE_RISE_PA`, at most :data:`LARGEST_PRESSURE_RISE_SHARE` of the
+    compression end pressure p_c (:func:`compression_end_pressure_Pa`)."""
+    return min(
+        USUAL_PRESSURE_RISE_PA, LARGEST_PRESSURE_RISE_SHARE * compression_end_pressure_Pa(params)
+    )
+
+
 #: Where a diesel's rounded diagram peaks when its scene gives no angle: Z' on the isobar z'z of
 #: heat added at constant pressure, this share of its length from TDC (Poda 2007 section 3.1:
 #: "approximately 2/3 of the segment's length"), where the theoretical pressure is p_z itself.

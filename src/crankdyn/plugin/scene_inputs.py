@@ -340,6 +340,15 @@ def _slave_cycle(
     return dataclasses.replace(cycle, junction_deg=float(junction))
 
 
+def _pressure_rise_Pa(scene) -> float:
+    """The rise p_c″ − p_c of the rounding: the scene's, else the usual one kept to a quarter of
+    the theoretical cycle's p_c (:func:`ind.usual_pressure_rise_Pa`)."""
+    r = scene.cycle.rounding
+    if "pressure_rise_to_tdc" in r.model_fields_set:
+        return float(r.pressure_rise_to_tdc)
+    return ind.usual_pressure_rise_Pa(cycle_parameters(scene))
+
+
 def rounding_parameters(scene) -> ind.RoundingParameters:
     """The rounding of the theoretical diagram, ``[cycle.rounding]`` with the textbook's defaults."""
     r, c = scene.cycle.rounding, scene.cycle
@@ -365,7 +374,7 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
         return ind.RoundingParameters(
             ignition_advance_deg=advance,
             combustion_delay_deg=delay,
-            pressure_rise_to_tdc_Pa=r.pressure_rise_to_tdc,
+            pressure_rise_to_tdc_Pa=_pressure_rise_Pa(scene),
             peak_pressure_fraction=peak_pressure_fraction(scene),
             peak_angle_after_tdc_deg=r.peak_angle_after_tdc_deg,
             exhaust_opens_before_bdc_deg=r.exhaust_opens_before_bdc_deg,

@@ -394,6 +394,7 @@ def _rounding_used(result) -> RoundingParameters | None:
         rounding,
         peak_pressure_fraction=fraction,
         peak_angle_after_tdc_deg=drawn[0].peak_angle_after_tdc_deg,
+        pressure_rise_to_tdc_Pa=drawn[0].pressure_rise_to_tdc_Pa,
     )
 
 
