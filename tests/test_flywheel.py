@@ -364,10 +364,12 @@ def test_the_reduced_inertia_is_written_for_the_engines_cylinders_and_cranks(
 
     from conftest import example_data, shared_html
 
+    given = example_data("inline4-petrol")["flywheel"]
+    # an aircraft engine's propeller has no rim to size
     flywheel = (
         None
         if example == "inline4-petrol"
-        else {"flywheel": example_data("inline4-petrol")["flywheel"]}
+        else {"flywheel": {k: v for k, v in given.items() if not k.startswith("rim_")}}
     )
     html = shared_html(example, flywheel, "ru", ("flywheel", "speed_fluctuation")).linked_html
     text = " ".join(re.sub(r"<[^>]+>", "", html).replace("\u2060", "").split())
@@ -429,3 +431,24 @@ def test_the_gas_forces_excess_work_is_the_gas_torques_own():
     said = re.search(r"would give an excess work of ([\d.]+) J: at n = 5600 rpm the inertia", text)
     assert said and float(said.group(1)) == pytest.approx(r["excess_work_gas_J"], rel=1e-3)
     assert ("add" if added > 0 else "lower it by") in text[said.end() : said.end() + 60]
+
+
+def test_an_aircraft_engines_propeller_gets_no_rim_and_the_console_says_so():
+    """Rim fields given for an aircraft engine are left out (its propeller takes the flywheel's
+    part and has no rim), and the console names the field; a car engine's rim is sized."""
+    from conftest import example_data
+
+    from crankdyn.plugin.registry import default_registry
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    registry = default_registry()
+    given = {"flywheel": example_data("inline4-petrol")["flywheel"]}
+    assert "rim_mean_diameter" in given["flywheel"]
+    flying = shared_run("radial9-aircraft", given, ("flywheel",))
+    assert flying.outputs["flywheel"].results["rim"] is None
+    lines = console_lines(warnings(flying.scene, registry, flying), registry)
+    assert any("flywheel.rim_mean_diameter = 240 mm is left out" in line for line in lines), lines
+    car = shared_run("inline4-petrol", None, ("flywheel",))
+    assert car.outputs["flywheel"].results["rim"] is not None
+    lines = console_lines(warnings(car.scene, registry, car), registry)
+    assert not any("rim_mean_diameter" in line for line in lines)

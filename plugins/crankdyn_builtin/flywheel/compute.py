@@ -101,6 +101,22 @@ def _strength(density_kg_m3: float, hoop_stress_Pa: float) -> dict:
     return {}
 
 
+def propeller(scene) -> bool:
+    """An aircraft engine: its propeller takes the flywheel's part, and has no rim to size."""
+    return scene.engine.application == "aircraft"
+
+
+def propeller_rim(scene, results=None) -> list[tuple[str, dict]]:
+    """Rim fields given for an aircraft engine, whose propeller has no rim: left out, said on
+    the console."""
+    if not propeller(scene) or applies(scene) is not None:
+        return []
+    opts = options(scene, "flywheel", FlywheelOptions)
+    if opts.rim_mean_diameter is None:
+        return []
+    return [("flywheel.plausibility_propeller_rim", {"diameter": opts.rim_mean_diameter * 1e3})]
+
+
 def _refuse_a_stalling_flywheel(irregularity, flywheel, own, excess_work_J, omega) -> None:
     """A flywheel so light that the speed would swing by more than the energy method holds for
     (the crankshaft nearly stops) is refused, with the flywheel that would do."""
@@ -283,7 +299,7 @@ def run(scene, inputs) -> StageOutput:
     if train.articulated:
         notes.append(("flywheel.note_articulated", {}))
 
-    if opts.rim_mean_diameter is not None and flywheel > 0:
+    if opts.rim_mean_diameter is not None and flywheel > 0 and not propeller(scene):
         results["rim"] = _rim(opts, flywheel, omega)
 
     frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm}

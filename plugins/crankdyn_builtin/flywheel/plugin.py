@@ -12,9 +12,9 @@ from pathlib import Path
 
 from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, ENGINE_TORQUE, FLYWHEEL
 from crankdyn.plugin.hooks import hookimpl
-from crankdyn.plugin.types import Catalog, Stage, StagePresentation, Symbol
+from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation, Symbol
 
-from .compute import applies, run
+from .compute import applies, propeller_rim, run
 from .options import FlywheelOptions
 from .section import input_rows, render, taken_rows
 
@@ -58,6 +58,7 @@ FLYWHEEL_STAGE = Stage(
     tables=("flywheel",),
     options_table="flywheel",
     options_model=FlywheelOptions,
+    plausibility=(PlausibilityRule("propeller_rim", propeller_rim),),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
