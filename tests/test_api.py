@@ -202,7 +202,7 @@ def test_summary_shows_main_values_and_leave_out_reasons(petrol):
     assert "v_max_m_s" in summary and f"{petrol.values['kinematics.v_max_m_s']:.6g}" in summary
     for name in petrol.skipped:
         assert name in summary
-    assert petrol.skipped and "Stages left out" in summary
+    assert petrol.skipped and "Calculations left out" in summary
 
 
 def test_example_notebook_runs_and_shows_html_first():
