@@ -1351,7 +1351,8 @@ def test_an_aircraft_engines_left_out_torsion_has_a_reason_that_covers_it(report
     too, which that inertia would allow: the assignment gives none."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
     assert re.search(
-        r"У записці не розраховано нерівномірність обертання з повітряним гвинтом, [^:]*крутильні "
+        r"У записці не розраховано нерівномірність обертання з повітряним гвинтом за енергетичним "
+        r"методом, [^:]*крутильні "
         r"коливання: авіаційний двигун не має маховика \(його роль виконує повітряний гвинт\), а "
         r"момент інерції гвинта в завданні не вказано\.",
         text,
