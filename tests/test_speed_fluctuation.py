@@ -265,3 +265,13 @@ def test_long_single_disc_series_gives_what_the_short_path_gives(monkeypatch):
         assert long_series(float(alpha)) == pytest.approx(
             series(float(alpha)), rel=1e-12, abs=1e-12 * abs(m)
         )
+
+
+def test_the_extreme_speeds_print_apart():
+    """A heavy propeller's 0.13 rad/s swing about 272 rad/s prints as 272.20 and 272.33 (five
+    significant digits), a V10's 2.6 rad/s about 680 rad/s with the usual four."""
+    from crankdyn_builtin.speed_fluctuation.section import speed_digits
+
+    assert speed_digits(272.33, 272.20) == 5
+    assert speed_digits(681.9, 679.3) == 4
+    assert speed_digits(100.0, 100.0) == 4  # no swing: the usual digits

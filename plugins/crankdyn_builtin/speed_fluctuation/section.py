@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.typeset import symbol_html
@@ -63,6 +65,15 @@ def _raised_conclusion(ctx, r) -> str | None:
     )
 
 
+def speed_digits(omega_max: float, omega_min: float) -> int:
+    """Significant digits that print the extreme speeds apart, their difference to two digits
+    (272,20 and 272,33 rad/s, not 272,2 and 272,3), at least four."""
+    spread = omega_max - omega_min
+    if spread <= 0 or omega_max <= 0:
+        return 4
+    return max(4, math.floor(math.log10(omega_max)) - math.floor(math.log10(spread)) + 2)
+
+
 def _chain_end(torsion) -> dict:
     """How the torsional chain ends, for its texts: ``bare``, the keys' ending of a chain without
     a flywheel disc (:func:`no_flywheel`), and ``last``, its last crank, then the reference disc."""
@@ -96,8 +107,7 @@ def render(output: StageOutput, ctx) -> str:
         )
 
     torsion = r["torsion"]
-    if torsion is None:  # no torsional model in the scene: the title does not promise one
-        ctx.title = t("speed_fluctuation.title_rigid")
+    ctx.title = None if torsion else t("speed_fluctuation.title_rigid")  # promise no torsion
     parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
     alike = False
@@ -136,6 +146,7 @@ def render(output: StageOutput, ctx) -> str:
         r=r,
         torsion=torsion,
         **_chain_end(torsion),
+        omega_digits=speed_digits(r["omega_max_rad_s"], r["omega_min_rad_s"]),
         delta_digits=digits,
         cylinders=ctx.scene.engine.cylinders,
         cranks=engine_layout(ctx.scene).cranks,
