@@ -223,6 +223,9 @@ def test_a_one_cylinder_note_gives_the_one_cylinder_meanings():
     one = shared_html("petrol-1cyl-uk", language="uk").linked_html
     four = shared_html("inline4-petrol", language="uk").linked_html
     assert "від ВМТ першого циліндра" not in one and "від ВМТ першого циліндра" in four
+    # a one-cylinder engine's bay model: its cylinder's force, not its crank's cylinders'
+    assert "вектор сили першого порядку циліндра, що обертається разом із коліном" in one
+    assert "циліндрів коліна" not in one and "вектор сил першого порядку циліндрів коліна" in four
 
 
 _ROW = re.compile(
