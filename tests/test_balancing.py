@@ -1140,3 +1140,22 @@ def test_the_free_moments_motion_is_said_in_words(example, said):
     html = shared_html(example, None, "en", ("balancing",)).linked_html
     text = unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)))
     assert said in text
+
+
+def test_a_single_cylinders_balance_shaft_beside_the_crankshaft_leaves_a_couple():
+    """One counter-rotating first-order shaft balances the backward half of P_I, C_I/2, but
+    beside the crankshaft: the couple, C_I/2 per metre of the shafts' distance, is said per
+    100 mm; a shaft-free engine says nothing of it."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    single = {"balancing": {"balance_orders": [1]}}
+    r = shared_run("petrol-1cyl", single, ("balancing",)).outputs["balancing"].results
+    assert [(s["order"], s["speed_ratio"]) for s in r["balance_shafts"]] == [(1, -1)]
+    html = shared_html("petrol-1cyl", single, "en", ("balancing",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)).replace("&#39;", "'")
+    per = f"{r['first_order_N'] / 2 * 0.1:.1f}"
+    assert f"form a couple, {per} N·m for every 100 mm of that distance" in text
+    none = shared_html("petrol-1cyl", {"balancing": {"balance_orders": []}}, "en", ("balancing",))
+    assert "for every 100 mm of that distance" not in none.linked_html

@@ -672,6 +672,23 @@ def free_motion_sentence(t, r, kind: str) -> str:
     return t(f"balancing.{kind}s_motion", items="; ".join(items)) if items else ""
 
 
+def shaft_beside_sentence(t, r) -> str:
+    """A single cylinder's counter-rotating first-order shaft lies beside the crankshaft: the
+    force it balances and its own are equal and opposite but a distance apart, a couple of
+    (C_I/2) times that distance rocking the engine about an axis parallel to the shaft (given per
+    100 mm, the shaft's place not being given); "" for any other engine or means."""
+    if len(r["cylinder_labels"]) != 1:
+        return ""
+    if not any(s["order"] == 1 and s["speed_ratio"] < 0 for s in r["balance_shafts"]):
+        return ""
+    half = 0.5 * r["first_order_N"]
+    return t(
+        "balancing.shaft_beside_single",
+        force=newtons(t, half),
+        per=newton_metres(t, half * 0.1),
+    )
+
+
 def render(output: StageOutput, ctx) -> str | None:
     r = output.results
     star = star_figure(ctx, r)
@@ -710,6 +727,7 @@ def render(output: StageOutput, ctx) -> str | None:
             else "balancing.unbalanced_forces_moments"
         ),
         rod_offset=_rod_offset_sentence(ctx.t, r),
+        shaft_beside=shaft_beside_sentence(ctx.t, r),
         free_motion=" ".join(
             filter(None, (free_motion_sentence(ctx.t, r, kind) for kind in ("force", "moment")))
         ),
