@@ -291,3 +291,22 @@ def test_a_diesel_whose_pre_expansion_outgrows_the_actual_compression_is_refused
         api.run(scene, stages=("indicator",))
     assert "cycle.pre_expansion_ratio = 4.9" in str(refused.value)
     assert "actual compression ratio from the exhaust ports' closing" in str(refused.value)
+
+
+def test_a_thermal_p_i_check_still_explains_a_fullness_above_one():
+    """The ported two-stroke's rounded diagram has more area than p_i′ counts (its blowdown after
+    b): with a thermal p_i to check against, the note still states φ = p_i/p_i′ and why it
+    exceeds 1."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    given = {"cycle": {"mean_indicated_pressure": "0.55 MPa"}}
+    r = shared_run("two-stroke-1cyl", given, ("indicator",)).outputs["indicator"].results
+    phi = r["gross_mean_indicated_pressure_Pa"] / r["theoretical_mean_indicated_pressure_Pa"]
+    assert r["diagram_fullness"] == pytest.approx(phi, rel=1e-12) and phi > 1
+    html = shared_html("two-stroke-1cyl", given, "en", ("indicator",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    assert "Check: the thermal calculation gives a mean indicated pressure of 0.5500 MPa" in text
+    assert f"the diagram fullness: φf = pi/pi′ = {phi:.4g}" in text.replace("\u2060", "")
+    assert "whereas the actual blowdown lasts" in text

@@ -137,14 +137,14 @@ def run(
             results["port_opening_travel_m"] = (1.0 - results["lost_stroke_fraction"]) * stroke
     results.update(_work_results(pressure, volume, angle, engine, swept, motion))
     p_i_gross = results["gross_mean_indicated_pressure_Pa"]
+    if scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
+        results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
     if scene.cycle.mean_indicated_pressure is not None:
         target = scene.cycle.mean_indicated_pressure
         results["thermal_mean_indicated_pressure_Pa"] = target
         results["mean_indicated_pressure_deviation_percent"] = 100.0 * (p_i_gross - target) / target
-    elif scene.cycle.source == "theoretical":  # both without the pumping strokes (p_i′: eq. 4.4)
-        results["diagram_fullness"] = p_i_gross / results["theoretical_mean_indicated_pressure_Pa"]
-        if engine.strokes == 4:  # the usual ranges are four-stroke engines'
-            results["diagram_fullness_usual"] = list(USUAL_FULLNESS[scene.cycle.ignition])
+    elif scene.cycle.source == "theoretical" and engine.strokes == 4:
+        results["diagram_fullness_usual"] = list(USUAL_FULLNESS[scene.cycle.ignition])
 
     gas = GasPressure(
         crank_angle_deg=angle,
