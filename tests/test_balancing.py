@@ -1159,3 +1159,21 @@ def test_a_single_cylinders_balance_shaft_beside_the_crankshaft_leaves_a_couple(
     assert f"form a couple, {per} N·m for every 100 mm of that distance" in text
     none = shared_html("petrol-1cyl", {"balancing": {"balance_orders": []}}, "en", ("balancing",))
     assert "for every 100 mm of that distance" not in none.linked_html
+
+
+def test_a_single_cylinders_counterweight_for_the_centrifugal_force_alone_is_said_so():
+    """No order to balance: the counterweight is sized for C alone, Q = C, and the note says
+    so, not Q = F + C."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    bare = {"balancing": {"balance_orders": []}}
+    r = shared_run("petrol-1cyl", bare, ("balancing",)).outputs["balancing"].results
+    (cw,) = r["counterweights"]
+    omega = shared_run("petrol-1cyl", bare, ("balancing",)).scene.engine.angular_velocity_rad_s
+    assert cw["mass_radius_kg_m"] * omega**2 == pytest.approx(r["centrifugal_N"], rel=1e-9)
+    html = shared_html("petrol-1cyl", bare, "en", ("balancing",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    assert "inertia force Q = C, C being the centrifugal force" in text
+    assert "Q = F + C" not in text
