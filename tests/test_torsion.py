@@ -351,3 +351,28 @@ def test_critical_speeds_near_the_operating_speed_are_flagged():
     )
     html, catalog, ctx = _sections(run("inline4-torsion"), "en")
     assert any("5348" in c and "5760" in c for c in ctx.conclusions)
+
+
+def test_the_vector_sum_over_cranks_counts_each_cylinder_once():
+    """Cranks whose torques are the first one's shifted by their delays: the crank-harmonic sum
+    equals the textbook's |Σ a_k e^{iνφ_k}|. A V engine's crank carries two cylinders: its
+    harmonic already sums them, so the sum over the cranks is not doubled by summing the
+    cylinders again (the sum over cylinders with the crank's amplitude would give twice this)."""
+    import numpy as np
+
+    from crankdyn.physics import torsion as tor
+
+    rng = np.random.default_rng(7)
+    a, phi, order, c0 = rng.uniform(-1, 1, 5), rng.uniform(0, 4 * np.pi, 5), 2.5, 3.0 - 4.0j
+    shifted = c0 * np.exp(-1j * order * phi)
+    assert tor.crank_vector_sum(a, shifted) == pytest.approx(
+        tor.relative_vector_sum(a, phi, order), rel=1e-12
+    )
+    # two cylinders a crank, their order-ν harmonics in phase (a bank angle of 360°/ν): the
+    # crank's harmonic is twice a cylinder's, and the relative sum is that of the cranks alone
+    bank = 2 * np.pi / order
+    crank = c0 * np.exp(-1j * order * phi) + c0 * np.exp(-1j * order * (phi + bank))
+    single_sum = tor.relative_vector_sum(a, phi, order)
+    assert tor.crank_vector_sum(a, crank) == pytest.approx(single_sum, rel=1e-12)
+    cylinders = tor.relative_vector_sum(np.repeat(a, 2), np.ravel([phi, phi + bank], "F"), order)
+    assert cylinders == pytest.approx(2 * single_sum, rel=1e-12)

@@ -272,23 +272,22 @@ def _mode_rows(modes: tor.Modes, n: int) -> list[dict]:
     ]
 
 
-def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft, train) -> list[dict]:
+def _harmonic_rows(orders, coefficients, significant: float, shaft: _Shaft) -> list[dict]:
     """One crank's torque harmonics up to the last significant order (at least MAX_ORDER), each with its
-    relative vector sum and critical speed for every elastic mode."""
+    relative vector sum over the cranks (each crank's own harmonic: :func:`tor.crank_vector_sum`)
+    and critical speed for every elastic mode; ``coefficients`` has one row per crank."""
     n, modes = shaft.n, shaft.modes
     rows = []
-    for order, c in zip(orders, coefficients, strict=True):
+    for j, order in enumerate(orders):
         if order > max(MAX_ORDER, significant) + 1e-9:
             break
         rows.append(
             {
                 "order": float(order),
-                "amplitude_Nm": float(abs(c)),
+                "amplitude_Nm": float(abs(coefficients[0][j])),
                 "vector_sum": [
-                    tor.relative_vector_sum(
-                        modes.shapes[shaft.crank_nodes[train.crank_of_cylinder], s],
-                        train.phase_rad,
-                        order,
+                    tor.crank_vector_sum(
+                        modes.shapes[shaft.crank_nodes, s], [c[j] for c in coefficients]
                     )
                     for s in range(1, n)
                 ],
@@ -307,9 +306,11 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     shaft = _shaft(torque, crank_loads, design, train, opts)
     n, reference, spans = shaft.n, shaft.reference, shaft.spans
 
-    # Harmonic orders of one crank's torque (gas + inertia at the nominal speed).
-    orders, coefficients = sf.harmonic_amplitudes(shaft.total_torque[0], torque.strokes / 2, 1e9)
-    significant = sf.significant_order(orders, np.abs(coefficients))
+    # Harmonic orders of each crank's torque (gas + inertia at the nominal speed); the first's
+    # amplitudes are the table's
+    spectra = [sf.harmonic_amplitudes(m, torque.strokes / 2, 1e9) for m in shaft.total_torque]
+    orders, coefficients = spectra[0][0], [c for _, c in spectra]
+    significant = sf.significant_order(orders, np.abs(coefficients[0]))
     choice = sf.choose_solver(
         shaft.eigen, math.pi * torque.strokes / omega_n, significant * omega_n
     )
@@ -321,7 +322,7 @@ def _torsion(scene, torque, crank_loads, design, train, exact, opts: TorsionOpti
     twist, span_torque, fly_speed = curves["twist"], curves["span_torque"], curves["fly_speed"]
     f_max, f_min = float(fly_speed.max()), float(fly_speed.min())
     mode_rows = _mode_rows(shaft.modes, n)
-    harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft, train)
+    harmonic_rows = _harmonic_rows(orders, coefficients, significant, shaft)
 
     results = {
         "nodes": [

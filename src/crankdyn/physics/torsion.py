@@ -250,6 +250,32 @@ def relative_vector_sum(mode_amplitude_per_cylinder, phase_rad, order: float) ->
     return float(abs(np.sum(a * np.exp(1j * order * phi))))
 
 
+def crank_vector_sum(mode_amplitude_per_crank, crank_coefficients) -> float:
+    r"""Relative vector sum of one order over the cranks, from each crank's own harmonic:
+    :math:`|\sum_k a_k c_{\nu,k}| / |c_{\nu,1}|`.
+
+    Parameters
+    ----------
+    mode_amplitude_per_crank : array_like, shape (m,)
+        Mode-shape amplitude at each crank's disc.
+    crank_coefficients : array_like of complex, shape (m,)
+        The order's complex harmonic coefficient of each crank's torque (all its cylinders).
+
+    Returns
+    -------
+    float
+        :func:`relative_vector_sum` where each crank's torque is the first one's shifted by its
+        firing delay, :math:`c_{\nu,k} = c_{\nu,1} e^{-i\nu\varphi_k}`; it stays right where
+        a crank carries several cylinders (a V engine's pin), whose order-:math:`\nu`
+        harmonics the crank's coefficient already sums (a sum over the cylinders with the
+        crank's harmonic would count them twice). 0 where the first crank's harmonic is nil.
+    """
+    a = np.asarray(mode_amplitude_per_crank, dtype=float)
+    c = np.asarray(crank_coefficients, dtype=complex)
+    first = abs(c[0])
+    return float(abs(np.sum(a * c)) / first) if first > 0 else 0.0
+
+
 def critical_speed_rpm(natural_frequency_rad_s, order):
     r"""Crankshaft speed at which order :math:`\nu` resonates with a mode: :math:`n = 30\omega_s/(\pi\nu)` [rpm]."""
     return 30.0 * np.asarray(natural_frequency_rad_s) / (np.pi * np.asarray(order))
