@@ -162,3 +162,23 @@ def test_an_aircraft_engines_flywheel_is_its_propeller(language, title, row, def
     assert keyword in text and ("FLYWHEEL" if language == "en" else "МАХОВИК") not in text
     car = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, language).linked_html)
     assert title not in car and defined not in car and keyword not in car
+
+
+def test_a_designed_flywheel_holds_at_its_speed_and_a_tiny_one_is_the_webs():
+    """A flywheel designed for [δ] at the rated speed: the note says δ grows at lower speeds (so
+    starting and idling choose it too); one of a few per cent of J_0 is said to be the crank
+    webs', the rotor's or the clutch's, not a part of its own."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    loose = {"flywheel": {"required_irregularity": 0.076}}
+    r = shared_run("inline4-petrol", loose, ("flywheel",)).outputs["flywheel"].results
+    share = r["flywheel_inertia_kg_m2"] / r["required_total_inertia_kg_m2"]
+    page = shared_html("inline4-petrol", loose, "en", ("flywheel",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page)).replace("\u2060", "")
+    assert "This holds at the given speed n = 5600 rpm: at a lower speed the irregularity" in text
+    said = "is in practice made up by the crank webs, the generator"
+    assert 0 < share < 0.1 and said in text, share
+    tight = shared_html("inline4-petrol", None, "en", ("flywheel",)).linked_html
+    assert said not in tight and "This holds at the given speed" in tight
