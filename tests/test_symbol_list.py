@@ -302,3 +302,19 @@ def test_the_vector_models_are_divided_by_their_circles_radius():
         r"$\Sigma P_{\mathrm{II}}/(|A_{2}|C_{\mathrm{I}})$",
     ]
     assert not any("C_{\\mathrm{II}}" in title for title in titles)
+
+
+def test_a_three_bank_engines_bank_angle_is_between_adjacent_banks():
+    """A W12's γ is the angle between adjacent banks (the outer ones lie 2γ apart), in the task's
+    data and the list of symbols; a V's is its bank angle."""
+    from conftest import shared_html
+
+    w = {"engine": {"layout": "W", "cylinders": 12, "bank_angle_deg": 60}}
+    w["engine"].update(crank_angles_deg=None, firing_order=None)
+    text = re.sub(
+        r"\s+", " ", re.sub(r"<[^>]+>", "", shared_html("v8-petrol", w, "en").linked_html)
+    )
+    assert "Angle between adjacent cylinder banks" in text and "Bank angle" not in text
+    assert "γ – angle between the axes of adjacent cylinder banks" in text
+    v = re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "en", ("kinematics",)).linked_html)
+    assert "Bank angle" in v and "adjacent cylinder banks" not in v

@@ -484,8 +484,9 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     """The forms of the symbols' meanings that fit ``scene``'s engine, first to try first
     (:func:`crankdyn.report.equation_legend.symbol_meaning`): a one-cylinder engine's, cylinders
     sharing pins (a one bank's), a boxer's (a the offset of opposed cylinders along the shaft),
-    a shaft of one crank ("without its crank's mass", not "its cranks' masses"), an aircraft
-    engine's (its propeller's inertia where another engine has a flywheel's)."""
+    a shaft of one crank ("without its crank's mass", not "its cranks' masses"), a W, Y or X
+    engine's (its bank angle between adjacent banks), an aircraft engine's (its propeller's
+    inertia where another engine has a flywheel's)."""
     forms = []
     if scene.engine.cylinders == 1:
         forms.append("single")
@@ -495,6 +496,8 @@ def _meaning_forms(scene) -> tuple[str, ...]:
         forms.append("boxer")
     if _cranks(scene) == 1:
         forms.append("one_crank")
+    if scene.engine.layout in ("W", "Y", "X"):
+        forms.append("banks")  # the bank angle lies between adjacent banks of three or four
     if getattr(scene.engine, "application", None) == "aircraft":
         forms.append("propeller")  # the propeller takes the flywheel's part
     return tuple(forms)
