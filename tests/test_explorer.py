@@ -305,3 +305,15 @@ def test_the_explorers_rule_columns_are_explained_before_its_table():
     text = re.sub(r"<[^>]+>", "", html)
     said = text.index("how many consecutive firings each rule names")
     assert said < text.index("Firing orders and crank arrangements ranked")
+
+
+def test_a_given_crank_arrangement_gets_a_firing_order_that_fits_it():
+    """Cranks given, no firing order: the explorer's best order for these cranks is taken (a
+    flat-plane V8's 0-180-180-0, whose best order overall is a cross-plane one's)."""
+    from conftest import shared_run
+
+    flat = {"engine": {"firing_order": None, "crank_angles_deg": [0, 180, 180, 0]}}
+    scene = shared_run("v8-petrol", flat, ("kinematics",)).scene
+    assert scene.firing_order_chosen and scene.engine.crank_angles_deg == [0, 180, 180, 0]
+    order = scene.engine.firing_order
+    assert sorted(order) == sorted(f"{k}{b}" for k in range(1, 5) for b in "LR")

@@ -440,6 +440,15 @@ class Analysis(_Strict):
     stages: list[str] | None = None
 
 
+def _same_cranks(row, crank_angles_deg) -> bool:
+    """Whether an explored arrangement's cranks are the given ones (to 1e-6 deg, modulo a turn)."""
+    ours = [a % 360.0 for a in row.crank_angles_deg]
+    theirs = [float(a) % 360.0 for a in crank_angles_deg]
+    return len(ours) == len(theirs) and all(
+        min(abs(a - b), 360.0 - abs(a - b)) <= 1e-6 for a, b in zip(ours, theirs, strict=True)
+    )
+
+
 class Scene(_Strict):
     """A whole scene. ``base_dir`` is where relative file names in it are resolved.
 
@@ -545,13 +554,17 @@ class Scene(_Strict):
         if math.factorial(max(cranks - 1, 0)) > 50_000:
             return
 
+        given = e.crank_angles_deg  # a given crank arrangement: the best order that fits it
         try:
-            found = fe.explore(e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=1)
+            found = fe.explore(
+                e.cylinders, e.layout, e.strokes, e.bank_angle_deg, top=1 if given is None else None
+            )
         except (lay.LayoutError, ValueError):
             return
-        if not found.rows:
+        fitting = [row for row in found.rows if given is None or _same_cranks(row, given)]
+        if not fitting:
             return
-        best = found.rows[0]
+        best = fitting[0]
         update = {"firing_order": list(best.firing_order)}
         if e.crank_angles_deg is None:
             update["crank_angles_deg"] = list(best.crank_angles_deg)
