@@ -26,6 +26,7 @@ from crankdyn.physics import kinematics as kin
 from crankdyn.physics import pressure_trace as trace
 from crankdyn.physics import series
 from crankdyn.physics.extrema import first_argmax
+from crankdyn.plugin.contracts import RodDynamicsOptions
 from crankdyn.plugin.scene_inputs import (
     cycle_parameters,
     engine_layout,
@@ -34,6 +35,7 @@ from crankdyn.plugin.scene_inputs import (
 )
 from crankdyn.scene import (
     Scene,
+    options,
 )
 
 from .steps import StepRun, _motion, best_times, drawn_rounding, run_at_step
@@ -305,15 +307,19 @@ def reference_values(scene: Scene, sample: StepRun, runner) -> Reference:
 
     ``quadrature``: everything from the pointwise model; ``mixed``: a mechanism known only by its
     displacement — integrals and t by the pointwise model, q from the fine step; ``fine_step``:
-    the same calculation at 0.05 deg (articulated rods with two-term kinematics).
+    the same calculation at 0.05 deg (articulated rods with two-term kinematics; loads of the
+    rigid rod, ``[rod_dynamics] apply_to_loads``, which the two-mass pointwise model does not
+    give).
     """
     start = time.perf_counter()
     e = scene.engine
     articulated = e.rod_type == "articulated"
     analytic = e.mechanism == "crank_slider"
     motion = _motion(sample)
+    rigid_rod = options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads
     if (
-        articulated
+        rigid_rod
+        or articulated
         and scene.analysis.kinematics != "exact"
         or (not analytic and (articulated or motion is None or motion.displacement_at is None))
     ):
