@@ -16,6 +16,7 @@ from crankdyn.plugin.contracts import (
     ENGINE_TORQUE,
     FLYWHEEL,
     FlywheelDesign,
+    RodDynamicsOptions,
 )
 from crankdyn.plugin.scene_inputs import crank_train
 from crankdyn.plugin.types import StageOutput
@@ -167,10 +168,14 @@ def _excess_results(excess, torque) -> dict:
     }
 
 
-def gas_excess_work_J(torque, train) -> float:
+def gas_excess_work_J(scene, torque, train) -> float | None:
     """ΔL of the gas forces' torque alone, J: the output torque with the reciprocating masses'
     inertia torque −½J′(α)ω² taken out (:func:`sf.gas_torque_Nm`), which shows how much of ΔL
-    the inertia forces make at the scene's speed."""
+    the inertia forces make at the scene's speed; None where the loads take the rod as a rigid
+    body (``[rod_dynamics] apply_to_loads``), whose inertia torque the two-mass J(α) does not
+    hold."""
+    if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
+        return None
     alpha = np.radians(torque.crank_angle_deg)
     _, derivative = train.series()(alpha)
     gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, torque.angular_velocity_rad_s)
@@ -270,7 +275,7 @@ def run(scene, inputs) -> StageOutput:
     results: dict = {
         "angular_velocity_rad_s": omega,
         **_excess_results(excess, torque),
-        "excess_work_gas_J": gas_excess_work_J(torque, train),
+        "excess_work_gas_J": gas_excess_work_J(scene, torque, train),
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "counterweight_inertia_kg_m2": counterweights,
