@@ -236,3 +236,23 @@ def test_the_english_negligible_orders_read_as_a_sentence():
     text = _text(shared_html("inline4-petrol", None, "en").linked_html)
     assert "The other unbalanced forces of the sixth order" in text
     assert "unbalanced the " not in text
+
+
+def test_a_boosted_engines_mechanical_efficiency_names_the_pumping_gain():
+    """p_a > p_r: the pumping strokes gain work, which the indicated power includes; the note does
+    not call them mechanical losses there, as it does for a naturally aspirated engine."""
+    import re
+
+    from conftest import shared_html
+
+    boosted = {
+        "cycle": {"intake_pressure": "0.19 MPa", "exhaust_pressure": "0.16 MPa"},
+        "engine": {"effective_power": "60 kW"},
+    }
+    page = shared_html("inline4-petrol", boosted, "en", ("torque",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page)).replace("&#39;", "'")
+    assert "already includes the pumping strokes' gain of the boosted engine" in text
+    plain = {"engine": {"effective_power": "60 kW"}}
+    page = shared_html("inline4-petrol", plain, "en", ("torque",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page))
+    assert "which the thermal calculation counts among the mechanical losses" in text

@@ -212,3 +212,26 @@ def test_the_rigid_rods_loads_give_no_gas_only_excess_work():
     assert result.outputs["flywheel"].results["excess_work_gas_J"] is None
     two_mass = _run("inline4-petrol", apply=False)
     assert two_mass.outputs["flywheel"].results["excess_work_gas_J"] > 0
+
+
+def test_the_forces_section_says_its_table_takes_the_rigid_rod():
+    """With the rigid rod's loads the forces section says that its table's k, N, t, z follow from
+    the rod's equations of motion, by how much they differ from the two-mass values, and the
+    rod-dynamics note no longer says the forces keep the two-mass model."""
+    import re
+
+    from crankdyn.report.document import render_html
+
+    result = _run("petrol-1cyl")
+    html = render_html(result, REGISTRY, "en").linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    difference = result.outputs["forces"].results["exact_rod"]["crank_pin_difference_max_N"]
+    assert "take the rod as a rigid body with its moment of inertia IG (section" in text
+    assert re.search(
+        r"differ from the two-mass values by up to ([\d ,.]+) N on the crank pin", text
+    )
+    said = re.search(r"by up to ([\d ,.\u202f]+) N on the crank pin", text).group(1)
+    assert float(said.replace("\u202f", "").replace(" ", "")) == pytest.approx(difference, rel=1e-3)
+    assert "keeps the textbook's two-mass split" not in text.replace("&#39;", "'")
+    two = render_html(_run("petrol-1cyl", apply=False), REGISTRY, "en").linked_html
+    assert "take the rod as a rigid body" not in two

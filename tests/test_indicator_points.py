@@ -257,7 +257,7 @@ def test_the_pressure_at_tdc_is_stated_and_its_rise_listed_among_the_values_take
     p_tdc = f"{r['tdc_pressure_rounded_Pa'] / 1e6:.3f}".replace(".", ",")
     rise = f"{r['pressure_rise_to_tdc_Pa'] / 1e6:.3f}".replace(".", ",")
     assert f"тиск у ВМТ pc″ = {p_tdc} МПа, на {rise} МПа вищий, ніж у кінці стиснення" in text
-    ratio = f"{1 + 0.5e6 / p_c:.3g}".replace(".", ",")
+    ratio = f"{1 + 0.5e6 / p_c:.4g}".replace(".", ",")
     assert f"Звичайне підвищення на 0,5 МПа [1, підрозд. 3.1] дало б тут pc″ = {ratio}·pc" in text
     taken = text[text.index("Таблиця 1.2 – Прийняті величини") :][:600]
     assert "Підвищення тиску у ВМТ над кінцем стиснення" in taken

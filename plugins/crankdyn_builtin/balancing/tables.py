@@ -511,7 +511,7 @@ def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
             else "balancing.see_means_counterweights"
         )
     elif not r["counterweights"]:
-        caption = t("balancing.means_caption_shafts", **radii)
+        caption = t("balancing.means_caption_shafts", shafts=len(r["balance_shafts"]), **radii)
         see = (
             "balancing.see_means_shaft"
             if len(r["balance_shafts"]) == 1
@@ -520,8 +520,8 @@ def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
     elif single:
         caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
         see = "balancing.see_means_single"  # one counterweight and one or more shafts
-    else:
-        caption = t("balancing.means_caption", **radii)
+    else:  # one shaft is said in the singular
+        caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
         see = "balancing.see_means"
     return caption, see
 

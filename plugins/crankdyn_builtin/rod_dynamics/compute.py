@@ -167,7 +167,9 @@ def run(scene, inputs) -> StageOutput:
         results.update(more)
         columns.update(more_columns)
         notes += more_notes
-        if scene.cycle is not None:  # with the cycle the force stage computes the rod's loads
+        # with the cycle the force stage computes the rod's loads: with the two-mass split unless
+        # they take the rod as a rigid body (its own note says so)
+        if scene.cycle is not None and not opts.apply_to_loads:
             notes.append(("rod_dynamics.note_forces_two_mass", {}))
     table = columns
     if source == "spectral":
