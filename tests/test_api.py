@@ -229,3 +229,14 @@ def test_the_sweep_command_module_does_not_shadow_the_api_function():
     import crankdyn.batch.sweep  # noqa: F401
 
     assert callable(crankdyn.sweep) and crankdyn.sweep.__module__ == "crankdyn.api"
+
+
+def test_an_aircraft_engines_section_from_the_api_names_its_propeller():
+    """The API renders a section with the report's own texts: an aircraft engine's energy-method
+    section is the propeller's, as in its note."""
+    scene = crankdyn.load(
+        ROOT / "examples" / "radial9-aircraft.toml", {"flywheel.inertia": "8 kg m^2"}
+    )
+    result = crankdyn.run(scene, ["flywheel"])
+    html = str(result.section("flywheel", language="en"))
+    assert "Speed fluctuation with the propeller by the energy method" in html

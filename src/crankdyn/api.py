@@ -484,8 +484,9 @@ class Result:
         self, figures_only: bool = False, language: str | None = None, only: str | None = None
     ) -> tuple[dict[str, SectionHTML], dict[str, Any]]:
         """Render the sections as the report numbers them; return their HTML and the Figures drawn."""
-        from .report.document import (
-            _environment,  # lazy: heavy optional import (jinja2: only when a section is rendered)
+        from .report.document import (  # lazy: heavy optional import (jinja2: only when a section is rendered)
+            _environment,
+            text_variant,
         )
 
         registry = _registry()
@@ -514,8 +515,8 @@ class Result:
                     return Markup("")
                 return super().figure(fig, caption, name, see, see_params)
 
-        t = translator(language, registry.catalogs)
         scene = self.scene
+        t = translator(language, registry.catalogs, text_variant(scene))
         ctx = Capture(
             t=t,
             env=_environment(registry, self.run_result),
