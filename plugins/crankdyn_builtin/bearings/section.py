@@ -405,8 +405,8 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     rolling = _rolling_supports(ctx.scene)
     if rolling:  # the plain-bearing figures above are a guide only for such supports
         ctx.conclude(t("bearings.conclusion_" + rolling))
-    elif _guided_application(ctx, r):
-        ctx.conclude(_guided_application(ctx, r))
+    elif guided := _guided_application(ctx, r):
+        ctx.conclude(guided)
 
 
 #: The applications whose engines the car and tractor engines' allowable pressures only guide.

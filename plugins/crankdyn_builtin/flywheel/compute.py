@@ -102,7 +102,7 @@ def _strength(density_kg_m3: float, hoop_stress_Pa: float) -> dict:
     return {}
 
 
-def propeller(scene) -> bool:
+def is_propeller(scene) -> bool:
     """An aircraft engine: its propeller takes the flywheel's part, and has no rim to size."""
     return scene.engine.application == "aircraft"
 
@@ -110,7 +110,7 @@ def propeller(scene) -> bool:
 def propeller_rim(scene, results=None) -> list[tuple[str, dict]]:
     """Rim fields given for an aircraft engine, whose propeller has no rim: left out, said on
     the console."""
-    if not propeller(scene) or applies(scene) is not None:
+    if not is_propeller(scene) or applies(scene) is not None:
         return []
     opts = options(scene, "flywheel", FlywheelOptions)
     if opts.rim_mean_diameter is None:
@@ -304,7 +304,7 @@ def run(scene, inputs) -> StageOutput:
     if train.articulated:
         notes.append(("flywheel.note_articulated", {}))
 
-    if opts.rim_mean_diameter is not None and flywheel > 0 and not propeller(scene):
+    if opts.rim_mean_diameter is not None and flywheel > 0 and not is_propeller(scene):
         results["rim"] = _rim(opts, flywheel, omega)
 
     frame = {"crank_angle_deg": torque.crank_angle_deg, "torque_Nm": torque.torque_Nm}

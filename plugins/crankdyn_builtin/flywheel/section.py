@@ -13,7 +13,7 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.scene import options
 from crankdyn_builtin.flywheel.worked import irregularity_is_a_result, worked_flywheel
 
-from .compute import RIM_STRENGTHS
+from .compute import RIM_STRENGTHS, is_propeller
 from .figures import work_figure
 from .options import FlywheelOptions
 
@@ -59,9 +59,9 @@ def render(output: StageOutput, ctx) -> str:
         _conclude(ctx, r)
         _conclude_rim_too_fast(ctx, r)
     opts = options(ctx.scene, "flywheel", FlywheelOptions)
-    propeller = _propeller(ctx.scene)
-    if propeller:  # an aircraft engine's propeller takes the flywheel's part
-        ctx.title = t("flywheel.title_propeller")
+    # an aircraft engine's propeller takes the flywheel's part: its texts (the title, the
+    # finding, the task's row) are the catalogs' _propeller keys, by the translator's variant
+    propeller = is_propeller(ctx.scene)
     return ctx.render_template(
         "sections/flywheel.html.j2",
         propeller=propeller,
@@ -243,7 +243,7 @@ def _conclude(ctx, r: dict) -> None:
         return
     ctx.find(
         t(
-            "flywheel.finding" + ("_propeller" if _propeller(ctx.scene) else ""),
+            "flywheel.finding",
             flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
             delta=ctx.num(r["irregularity"], 3),
         )
@@ -292,11 +292,6 @@ def _conclude_not_needed(ctx, r) -> None:
     )
 
 
-def _propeller(scene) -> bool:
-    """An aircraft engine: its propeller, on the crankshaft, is the flywheel of this section."""
-    return getattr(scene.engine, "application", None) == "aircraft"
-
-
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     """The [flywheel] table's given data for the report's table of the task's data."""
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -308,8 +303,9 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             (t("flywheel.input_irregularity"), "[<i>δ</i>]", num(opts.required_irregularity, 6), "")
         )
     if opts.inertia is not None:
-        key = "flywheel.input_inertia" + ("_propeller" if _propeller(scene) else "")
-        rows.append((t(key), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia))
+        rows.append(
+            (t("flywheel.input_inertia"), "<i>J</i><sub>f</sub>", num(opts.inertia, 4), inertia)
+        )
     if "engine_inertia" in opts.model_fields_set:
         rows.append(_engine_inertia_row(opts, t, _cranks(scene)))
     if opts.rim_mean_diameter is not None:

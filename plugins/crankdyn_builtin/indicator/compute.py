@@ -214,15 +214,12 @@ def _rise_limited(scene, params, rounding) -> dict | None:
 
 
 def _isobar_point(scene, params, clearance: float) -> dict | None:
-    """Where :func:`_peak_on_isobar`: the share of the isobar z′ lies at and its volume
-    V_c(1 + share·(ρ − 1)), m³; else None."""
+    """Where :func:`_peak_on_isobar`: the share of the isobar z′ lies at and its volume, m³
+    (:func:`ind.isobar_point_volume_m3`); else None."""
     if not _peak_on_isobar(scene, params):
         return None
     share = ind.DIESEL_PEAK_ISOBAR_SHARE
-    return {
-        "share": share,
-        "volume_m3": clearance * (1.0 + share * (params.pre_expansion_ratio - 1)),
-    }
+    return {"share": share, "volume_m3": ind.isobar_point_volume_m3(clearance, params, share)}
 
 
 def _rounding_taken(scene, motion, params, area: float, clearance: float):

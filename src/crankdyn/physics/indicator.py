@@ -1369,6 +1369,14 @@ def usual_pressure_rise_Pa(params) -> float:
 DIESEL_PEAK_ISOBAR_SHARE = 2.0 / 3.0
 
 
+def isobar_point_volume_m3(
+    clearance_volume_m3: float, params, share: float = DIESEL_PEAK_ISOBAR_SHARE
+) -> float:
+    """The cylinder volume ``share`` along the isobar z'z, m^3: V_c (1 + share (rho - 1)) (the
+    isobar runs from V_c at TDC to rho V_c at z)."""
+    return clearance_volume_m3 * (1.0 + share * (params.pre_expansion_ratio - 1.0))
+
+
 def isobar_peak_angle_deg(
     crank_angle_deg,
     volume_m3,
@@ -1395,7 +1403,7 @@ def isobar_peak_angle_deg(
         params,
         volume_function,
     )
-    target = clearance_volume_m3 * (1.0 + share * (params.pre_expansion_ratio - 1.0))
+    target = isobar_point_volume_m3(clearance_volume_m3, params, share)
     low, high = 0.0, 90.0
     while high - low > 1e-10:
         middle = 0.5 * (low + high)
