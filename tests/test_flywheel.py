@@ -452,3 +452,73 @@ def test_an_aircraft_engines_propeller_gets_no_rim_and_the_console_says_so():
     assert car.outputs["flywheel"].results["rim"] is not None
     lines = console_lines(warnings(car.scene, registry, car), registry)
     assert not any("rim_mean_diameter" in line for line in lines)
+
+
+def _square_rim_outer_m(inertia, density, mean_diameter):
+    """Outer diameter of a square rim of J in closed form: J = π ρ h² D (D² + h²) / 4 is a
+    quadratic in h², h² = (−D² + √(D⁴ + 16 J / (π ρ D))) / 2."""
+    d = np.asarray(mean_diameter, dtype=float)
+    h2 = (-(d**2) + np.sqrt(d**4 + 16.0 * inertia / (math.pi * density * d))) / 2.0
+    return d + np.sqrt(h2)
+
+
+@pytest.mark.parametrize("limit_m", [0.239, 0.30, 0.50])
+def test_the_largest_rim_within_an_outer_diameter_is_the_closed_forms(limit_m):
+    inertia, density = 0.1133, 7850.0
+    found = fw.largest_rim_mean_diameter_m(inertia, density, limit_m)
+    assert _square_rim_outer_m(inertia, density, found) == pytest.approx(limit_m, rel=1e-9)
+    # the largest such diameter: a dense scan of the closed form finds none above it that fits
+    scan = np.linspace(0.01, limit_m, 200_001)
+    fits = scan[_square_rim_outer_m(inertia, density, scan) <= limit_m]
+    assert found == pytest.approx(fits.max(), abs=2 * (scan[1] - scan[0]))
+
+
+def test_no_rim_within_a_small_outer_diameter():
+    """The outer diameter D + h(D) has a least value over D: a limit below it has no rim."""
+    inertia, density, limit_m = 0.1133, 7850.0, 0.1365
+    scan = np.linspace(0.005, 0.5, 100_001)
+    assert _square_rim_outer_m(inertia, density, scan).min() > limit_m
+    assert fw.largest_rim_mean_diameter_m(inertia, density, limit_m) is None
+
+
+def test_a_too_fast_rim_gets_the_largest_passing_diameter_in_the_note():
+    """The rim fails the allowed peripheral speed: the section and the conclusions give the
+    largest mean diameter, in whole millimetres, whose rim carries the same inertia within it."""
+    from conftest import shared_html, shared_run
+
+    changes = {"flywheel": {"max_rim_speed": "70 m/s"}}
+    run = shared_run("inline4-petrol", changes, stages=["flywheel"])
+    rim = run.outputs["flywheel"].results["rim"]
+    passing = rim["passing"]
+    assert rim["speed_ok"] is False and passing["speed_m_s"] <= 70.0
+    omega = run.scene.engine.rpm * math.pi / 30
+    limit = 2 * 70.0 / omega
+    largest = fw.largest_rim_mean_diameter_m(rim["inertia_kg_m2"], rim["density_kg_m3"], limit)
+    assert passing["mean_diameter_m"] == math.floor(largest * 1e3) / 1e3
+    assert passing["outer_diameter_m"] == pytest.approx(
+        _square_rim_outer_m(rim["inertia_kg_m2"], rim["density_kg_m3"], passing["mean_diameter_m"])
+    )
+    text = re.sub(
+        r"[\u00a0\u202f\u2009]",
+        " ",
+        html_lib.unescape(
+            re.sub(
+                r"<[^>]+>",
+                "",
+                shared_html("inline4-petrol", changes, None, ["flywheel"]).linked_html,
+            )
+        ),
+    )
+    diameter = f"{passing['mean_diameter_m'] * 1e3:g}"
+    assert f"carried by a rim of mean diameter at most {diameter} mm" in text
+    assert re.search(
+        rf"a rim of mean diameter at most {diameter} mm \([\d.]+ × [\d.]+ mm, [\d.]+ kg\) "
+        "carries the same inertia and passes it",
+        text,
+    )  # the conclusions
+    slow = {"flywheel": {"max_rim_speed": "40 m/s"}}
+    slow_run = shared_run("inline4-petrol", slow, stages=["flywheel"])
+    assert slow_run.outputs["flywheel"].results["rim"]["passing"] is None
+    assert "no rim of this material carries the same inertia" in re.sub(
+        r"<[^>]+>", "", shared_html("inline4-petrol", slow, None, ["flywheel"]).linked_html
+    )

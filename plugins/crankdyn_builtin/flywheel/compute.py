@@ -59,7 +59,7 @@ def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
             )
         ) from None
     speed = omega_rad_s * rim.outer_diameter_m / 2
-    return {
+    rim_results = {
         "inertia_kg_m2": rim.inertia_kg_m2,
         "fraction": opts.rim_fraction,
         "mean_diameter_m": rim.mean_diameter_m,
@@ -76,6 +76,31 @@ def _rim(opts, flywheel_inertia_kg_m2: float, omega_rad_s: float) -> dict:
         **_strength(opts.rim_density, fw.rim_hoop_stress_Pa(opts.rim_density, speed)),
         "max_speed_m_s": opts.max_rim_speed,
         "speed_ok": None if opts.max_rim_speed is None else bool(speed <= opts.max_rim_speed),
+        "passing": None,
+    }
+    if rim_results["speed_ok"] is False:
+        rim_results["passing"] = _passing_rim(opts, rim_inertia, omega_rad_s)
+    return rim_results
+
+
+def _passing_rim(opts, rim_inertia_kg_m2: float, omega_rad_s: float) -> dict | None:
+    """The rim of the largest mean diameter, in whole millimetres, whose outer edge keeps to the
+    allowed peripheral speed (:func:`fw.largest_rim_mean_diameter_m`), as the rim's keys give
+    it; None when no rim of this material and width does."""
+    largest = fw.largest_rim_mean_diameter_m(
+        rim_inertia_kg_m2, opts.rim_density, 2.0 * opts.max_rim_speed / omega_rad_s, opts.rim_width
+    )
+    if largest is None or largest < 2e-3:
+        return None
+    whole_mm = math.floor(largest * 1e3 * (1.0 - 1e-9)) / 1e3  # within the limit after rounding
+    rim = fw.rim_design(rim_inertia_kg_m2, whole_mm, opts.rim_density, opts.rim_width)
+    return {
+        "mean_diameter_m": rim.mean_diameter_m,
+        "outer_diameter_m": rim.outer_diameter_m,
+        "width_m": rim.width_m,
+        "thickness_m": rim.thickness_m,
+        "mass_kg": rim.mass_kg,
+        "speed_m_s": omega_rad_s * rim.outer_diameter_m / 2,
     }
 
 

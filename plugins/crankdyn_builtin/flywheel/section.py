@@ -269,7 +269,20 @@ def _conclude_rim_too_fast(ctx, r: dict) -> None:
         return
     params = {"speed": ctx.num(rim["speed_m_s"], 3), "limit": ctx.t.number_g(rim["max_speed_m_s"])}
     ctx.find(ctx.t("flywheel.finding_rim_too_fast", **params))
-    ctx.conclude(ctx.t("flywheel.conclusion_rim_too_fast", **params))
+    passing = rim.get("passing")
+    if passing is None:
+        ctx.conclude(ctx.t("flywheel.conclusion_rim_too_fast_no_rim", **params))
+        return
+    ctx.conclude(
+        ctx.t(
+            "flywheel.conclusion_rim_too_fast_passing",
+            **params,
+            diameter=ctx.t.number_g(passing["mean_diameter_m"] * 1e3, 6),
+            h=ctx.num(passing["thickness_m"] * 1e3, 3),
+            b=ctx.num(passing["width_m"] * 1e3, 3),
+            mass=ctx.num(passing["mass_kg"], 3),
+        )
+    )
 
 
 def _conclude_not_needed(ctx, r) -> None:

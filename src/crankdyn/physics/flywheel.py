@@ -53,6 +53,7 @@ __all__ = [
     "thin_rim_mass_kg",
     "rim_design",
     "rim_hoop_stress_Pa",
+    "largest_rim_mean_diameter_m",
 ]
 
 
@@ -205,6 +206,58 @@ def rim_design(inertia_kg_m2, mean_diameter_m, density_kg_m3, width_m=None) -> R
     b = h if width_m is None else float(width_m)
     mass = math.pi * rho * b * D * h
     return RimDesign(D, b, h, D + h, D - h, mass, thin_rim_mass_kg(inertia_kg_m2, D), inertia_of(h))
+
+
+#: Mean diameters tried between the allowed outer diameter and a twentieth of it when the largest
+#: rim that fits is looked for (a geometric grid: 1 % apart).
+_RIM_SEARCH_POINTS = 300
+
+
+def largest_rim_mean_diameter_m(
+    inertia_kg_m2, density_kg_m3, outer_diameter_max_m, width_m=None
+) -> float | None:
+    r"""The largest mean diameter :math:`D_m` [m] of a rim that carries the inertia J
+    (:func:`rim_design`) with its outer diameter :math:`D_m + h` at most ``outer_diameter_max_m``;
+    None when no rim of this density does.
+
+    Parameters
+    ----------
+    inertia_kg_m2 : float
+        Inertia the rim must have [kg m^2], > 0.
+    density_kg_m3 : float
+        Rim material density [kg/m^3], > 0.
+    outer_diameter_max_m : float
+        The largest outer diameter allowed [m], e.g. :math:`2 v_{max}/\omega` for a peripheral
+        speed :math:`v_{max}` at the angular velocity :math:`\omega`.
+    width_m : float, optional
+        Axial width b [m]; default: a square section, b = h.
+
+    Notes
+    -----
+    A smaller mean diameter needs a thicker rim for the same J (:math:`h \propto D_m^{-3/2}`
+    for a square thin rim), so the outer diameter :math:`D_m + h(D_m)` falls with :math:`D_m` only
+    down to a minimum, below which the thickness outgrows the diameter saved. The largest root of
+    :math:`D_m + h(D_m) = D_{max}` is bracketed on a geometric grid from :math:`D_{max}` down to
+    :math:`D_{max}/20` and found by Brent's method; none on the grid means no rim fits.
+    """
+    if inertia_kg_m2 <= 0 or density_kg_m3 <= 0 or outer_diameter_max_m <= 0:
+        raise ValueError("inertia, density and the largest outer diameter must be positive")
+    top = float(outer_diameter_max_m)
+
+    def excess_m(mean_diameter_m: float) -> float:
+        """Outer diameter over the allowed one, m (positive where no rim of this D_m fits)."""
+        try:
+            rim = rim_design(inertia_kg_m2, mean_diameter_m, density_kg_m3, width_m)
+        except ValueError:  # no rim of this mean diameter reaches J
+            return top
+        return rim.outer_diameter_m - top
+
+    above = top  # D_m = D_max: its rim's outer diameter exceeds D_max by h > 0
+    for mean in top * np.geomspace(1.0, 0.05, _RIM_SEARCH_POINTS)[1:]:
+        if excess_m(float(mean)) <= 0.0:
+            return brentq(excess_m, float(mean), above, xtol=1e-12, rtol=1e-12)
+        above = float(mean)
+    return None
 
 
 def rim_hoop_stress_Pa(density_kg_m3, rim_speed_m_s):
