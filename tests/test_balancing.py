@@ -1177,3 +1177,30 @@ def test_a_single_cylinders_counterweight_for_the_centrifugal_force_alone_is_sai
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
     assert "inertia force Q = C, C being the centrifugal force" in text
     assert "Q = F + C" not in text
+
+
+def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_balance():
+    """The conclusions counted a web's counterweight as one ("four counterweights" beside a table
+    of two cranks' rows), said "they balance ." of counterweights that change no free force or
+    moment, and the means table's caption put a plural without a numeral in the genitive."""
+    from conftest import shared_html
+
+    def text(changes, language):
+        page = shared_html("inline4-petrol", changes, language, ("balancing",)).linked_html
+        return " ".join(re.sub(r"<[^>]+>", "", page).replace("&#39;", "'").split())
+
+    every = {"balancing": {"counterweights": "every_crank"}}
+    ru = text(every, "ru")
+    assert "Средства уравновешивания: восемь противовесов на щёках каждого колена и два" in ru
+    assert "Противовесы (центр масс на радиусе" in ru
+    assert "и уравновешивающие валы (центр масс на радиусе" in ru
+    internal = {"balancing": {"counterweights": "every_crank", "balance_orders": []}}
+    en = text(internal, "en")
+    assert "The balancing means: eight counterweights on the webs of every crank. " in en
+    assert "they balance ." not in en and "The counterweights change none of the engine" in en
+    v8 = " ".join(
+        re.sub(
+            r"<[^>]+>", "", shared_html("v8-petrol", None, "uk", ("balancing",)).linked_html
+        ).split()
+    )
+    assert "Засоби зрівноваження: чотири противаги на щоках колін 1 і 4; вони зрівноважують" in v8

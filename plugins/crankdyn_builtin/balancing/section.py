@@ -444,6 +444,26 @@ def _unbalanced_item(ctx, r, item) -> str:
     return f"{plain_symbol(item)} = {amplitude} {unit} ({coefficient}·{scale if force else scale + '·a'})"
 
 
+def _counterweights_means(t, r) -> str:
+    """The counterweights among the means: how many, and (an engine of several cranks) on whose
+    webs, as the means table lists them crank by crank."""
+    counterweights = r["counterweights"]
+    bodies = counterweight_bodies(counterweights)
+    if len(r["cylinder_labels"]) == 1:
+        return t("balancing.means_counterweights", n=bodies)
+    cranks = [str(cw["crank"]) for cw in counterweights]
+    if len(set(cranks)) == len(r["crank_directions_deg"]) and len(cranks) > 2:
+        where = t("balancing.webs_every_crank")
+    else:
+        labels = (
+            cranks[0]
+            if len(cranks) == 1
+            else (", ".join(cranks[:-1]) + t("balancing.means_and") + cranks[-1])
+        )
+        where = t("balancing.webs_cranks", k=len(cranks), labels=labels)
+    return t("balancing.means_counterweights_webs", n=bodies, cranks=where)
+
+
 def counterweight_bodies(counterweights: list[dict]) -> int:
     """How many counterweights there are: the means table gives each crank's as its mass, that
     of one web's times the webs carrying one (m (m_web × 2)), so that many each."""
@@ -459,8 +479,7 @@ def _means_sentence(t, r) -> str:
     shaft_orders = sorted({shaft["order"] for shaft in r["balance_shafts"]})
     means = []
     if r["counterweights"]:
-        bodies = counterweight_bodies(r["counterweights"])
-        means.append(t("balancing.means_counterweights", n=bodies))
+        means.append(_counterweights_means(t, r))
     if r["balance_shafts"]:
         means.append(
             t(
@@ -475,10 +494,13 @@ def _means_sentence(t, r) -> str:
     key = "balancing.conclusion_means_single" if single else "balancing.conclusion_means"
     if single and not balanced:  # counterweights for the centrifugal force alone
         key = "balancing.conclusion_means_single_centrifugal"
+    what = balanced_by_means(t, r)
+    if not single and not what:  # counterweights that change no free force or moment
+        key = "balancing.conclusion_means_plain"
     sentence = t(
         key,
         means=t("balancing.means_and").join(means),
-        what=balanced_by_means(t, r),
+        what=what,
         orders=", ".join(map(str, balanced)),
         orders_words=orders_in_words(t, balanced) if balanced else "",
         count=len(balanced),
