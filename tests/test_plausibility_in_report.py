@@ -173,6 +173,7 @@ def test_a_fuller_diagram_than_the_usual_is_said_with_its_excess():
     excess = f"{100 * (phi / 0.95 - 1):.2g}".replace(".", ",")
     assert "Обычные значения для дизелей – 0,92…0,95" in note.section("indicator")
     assert f"получены до {excess} % больше, чем при φ" in note.section("indicator")
+    assert "Колчин и Демидов принимают действительный пик" not in note.section("indicator")
     usual = Note("diesel-1cyl", {}, ("indicator",), "ru")
     assert 0.92 <= usual.result.outputs["indicator"].results["diagram_fullness"] <= 0.95
     assert "Обычные значения для дизелей" not in usual.section("indicator")
