@@ -1204,3 +1204,18 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
         ).split()
     )
     assert "Засоби зрівноваження: чотири противаги на щоках колін 1 і 4; вони зрівноважують" in v8
+
+
+def test_the_residual_check_gives_the_moments_left_after_the_means():
+    """The check after the means spoke of forces only, while an in-line three's means are sized
+    for moments: the remainder's moments are given too, and they are the fourth order's moment
+    by the vector method (√3·|A_4|·C_I·a) within the higher orders' share."""
+    from conftest import shared_html, shared_run
+
+    r = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
+    moment = r["residual"]["moment_max_Nm"]
+    fourth = next(o["moment_max_Nm"] for o in r["orders"] if o.get("order") == 4)
+    assert moment == pytest.approx(fourth, rel=0.02)
+    page = shared_html("inline3-petrol", None, "en", ("balancing",)).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", page).split()).replace("\u202f", " ")
+    assert f"Their moments likewise reduce to those of the higher orders: {moment:.3g} N·m" in text
