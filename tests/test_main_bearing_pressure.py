@@ -112,3 +112,22 @@ def test_a_diesels_main_bearings_are_judged_by_the_diesels_allowable_pressures()
     assert "allowable in diesels [" in section and "largest 40 MPa" in section
     assert "The main-bearing pressure is within the values allowable in diesels" in note.conclusions
     assert "against the allowable 16 and 40 MPa" in note.conclusions
+
+
+def test_counterweights_on_other_cranks_leave_a_journal_loaded_by_its_neighbours():
+    """An in-line five with counterweights on its end cranks only: journal 2–3 carries cranks 2
+    and 3, which have none, so its load is chiefly their centrifugal forces, and the note names
+    counterweights next to it as the remedy (it offered only a longer bearing)."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    five = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+    r = shared_run("inline3-petrol", five, ("balancing", "bearings")).outputs["bearings"].results
+    assert r["counterweight_cranks"] == [1, 5]
+    journal = max(r["main_journals"], key=lambda j: j["mean_N"])
+    assert journal["journal"] in ("2-3", "3-4")
+    assert journal["centrifugal_N"] > 0.5 * journal["mean_N"]
+    page = shared_html("inline3-petrol", five, "en", ("balancing", "bearings")).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", page).split())
+    assert "carries chiefly the centrifugal forces of the cranks beside it" in text

@@ -399,6 +399,7 @@ def run(scene, inputs) -> StageOutput:
         },
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
+        "counterweight_cranks": [k + 1 for k in range(cranks) if cw_t[k] or cw_z[k]],
         **_journal_results(journals, bearing, centrifugal * area, d_main, w_main, area),
         "crank_centrifugal_N": abs(loads.centrifugal_Pa) * area,
         "rod_bearings": rod_results,

@@ -296,11 +296,17 @@ CENTRIFUGAL_SHARE = 0.5
 
 def centrifugal_journal(r: dict) -> dict | None:
     """The main journal of the largest mean load when the cranks' centrifugal forces, not
-    balanced by counterweights, give at least :data:`CENTRIFUGAL_SHARE` of it; else None (the
-    steady centrifugal load shows in the mean, not in the peak, which the gas forces set)."""
-    if r["with_counterweights"] or len(r["main_journals"]) < 3:
+    balanced by counterweights on its two neighbouring cranks, give at least
+    :data:`CENTRIFUGAL_SHARE` of it; else None (the steady centrifugal load shows in the mean,
+    not in the peak, which the gas forces set). A journal carries its neighbouring cranks' loads
+    only (a statically determinate shaft), so counterweights elsewhere do not relieve it."""
+    journals = r["main_journals"]
+    if len(journals) < 3:
         return None
-    journal = mean_loaded(r["main_journals"])
+    journal = mean_loaded(journals)
+    index = next(j for j, other in enumerate(journals) if other is journal)
+    if {index, index + 1} & set(r.get("counterweight_cranks", [])):
+        return None
     if journal.get("centrifugal_N", 0.0) < CENTRIFUGAL_SHARE * journal["mean_N"]:
         return None
     return journal
