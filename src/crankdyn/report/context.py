@@ -17,7 +17,7 @@ from markupsafe import Markup, escape
 from ..errors import PluginError
 from ..physics.extrema import first_extremum_index
 from ..plugin.types import declared
-from . import figure_memo
+from . import figure_memo, names
 from .assets import FIGURE_DIR, templates_dir
 from .formula_lines import unbroken_parts
 from .i18n import Translator
@@ -252,6 +252,10 @@ class RenderContext:
         self.env.filters["cyl"] = self.t.cylinder  # "1L" as this language prints it
         self.env.filters["firing_order_cell"] = self.t.firing_order_cell
         self.env.filters["angle"] = self.angle_text  # a crank angle: "372°", "75,4°"
+        # the assignment's engine name within a sentence ("Об’єкт розрахунку – трициліндровий …")
+        self.env.filters["inside_sentence"] = lambda name: names.inside_sentence(
+            name, self.t.language
+        )
 
     @property
     def worked_angle_deg(self) -> float:
