@@ -522,3 +522,26 @@ def test_a_too_fast_rim_gets_the_largest_passing_diameter_in_the_note():
     assert "no rim of this material carries the same inertia" in re.sub(
         r"<[^>]+>", "", shared_html("inline4-petrol", slow, None, ["flywheel"]).linked_html
     )
+
+
+@pytest.mark.parametrize(
+    "example, changes, direction",
+    [
+        ("inline4-petrol", None, "more slowly"),  # the inertia torque adds to the gas torque's ΔL
+        ("v8-petrol", {"flywheel": {"required_irregularity": 0.01}}, "faster"),  # it offsets it
+    ],
+)
+def test_the_speed_regime_sentence_says_where_delta_l_tends_at_low_speed(
+    example, changes, direction
+):
+    """δ = ΔL/(Jω²) at a lower speed: ΔL itself tends to the gas torque's alone as the inertia
+    torque fades with ω², so δ grows faster or more slowly than 1/ω² near idling."""
+    from conftest import shared_html, shared_run
+
+    r = shared_run(example, changes, ("flywheel",)).outputs["flywheel"].results
+    assert (r["excess_work_gas_J"] > r["excess_work_J"]) is (direction == "faster")
+    page = shared_html(example, changes, "en", ("flywheel",)).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "").split())
+    gas = f"{r['excess_work_gas_J']:.4g}"
+    assert f"At low speeds ΔL itself tends to {gas} J" in text
+    assert f"so near idling δ grows {direction} than 1/ω²." in text
