@@ -1219,3 +1219,34 @@ def test_the_residual_check_gives_the_moments_left_after_the_means():
     page = shared_html("inline3-petrol", None, "en", ("balancing",)).linked_html
     text = " ".join(re.sub(r"<[^>]+>", "", page).split()).replace("\u202f", " ")
     assert f"Their moments likewise reduce to those of the higher orders: {moment:.3g} N·m" in text
+
+
+def test_the_internal_moments_of_the_centrifugal_forces_are_given_with_their_value():
+    """An in-line six balances its centrifugal forces and their moment by its cranks, yet they
+    bend the shaft and the crankcase between the halves: √3·C·a, given where no means are needed;
+    an in-line four with balance shafts and no counterweights gets C·a; counterweights on every
+    crank relieve it ("without them")."""
+    from conftest import shared_html, shared_run
+
+    def text(example, changes=None):
+        page = shared_html(example, changes, "en", ("balancing",)).linked_html
+        return " ".join(re.sub(r"<[^>]+>", "", page).replace("&#39;", "'").split())
+
+    for example, coefficient in (("inline6-diesel-trace", math.sqrt(3.0)), ("inline4-petrol", 1.0)):
+        r = shared_run(example, None, ("balancing",)).outputs["balancing"].results
+        moment = coefficient * r["centrifugal_N"] * r["cylinder_spacing_m"]
+        assert r["internal_moment_Nm"] == pytest.approx(moment, rel=1e-12)
+        found = re.search(
+            r"the largest (?:of these internal moments )?is ([\d\u202f.]+) N·m \(([\d.]+)·C·a\)",
+            text(example),
+            re.I,
+        )
+        assert found, example
+        assert float(found.group(1).replace("\u202f", "")) == pytest.approx(moment, rel=5e-4)
+        assert float(found.group(2)) == pytest.approx(coefficient, rel=5e-4)
+    assert "The largest of these internal moments is" in text("inline6-diesel-trace")
+    assert "Counterweights on the webs of every crank would relieve them" in text("inline4-petrol")
+    every = {"balancing": {"counterweights": "every_crank", "balance_orders": []}}
+    assert "Without them the largest internal moment would be" in text("inline4-petrol", every)
+    v8 = shared_run("v8-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert v8["internal_moment_Nm"] is None  # a cross-plane V8's ΣM_C is free: no internal moment

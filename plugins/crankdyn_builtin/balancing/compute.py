@@ -439,6 +439,7 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
+        **_internal_moment(g, C, a),
         **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
     }
 
@@ -451,6 +452,30 @@ def run(scene, inputs) -> StageOutput:
     return StageOutput(
         data={COUNTERWEIGHTS: fitted}, results=results, tables={"balancing": table}, notes=notes
     )
+
+
+#: A resultant of the centrifugal forces (or of their moment) below this share of one crank's
+#: (times a) is the crank arrangement's balance, not a free force (rounding of the crank angles).
+_FREE_OF_RESULTANT = 1e-9
+
+
+def _internal_moment(g, C: float, spacing_m: float | None) -> dict:
+    """The largest internal moment of the centrifugal forces (:func:`bal.internal_moment_max`),
+    N·m, and its coefficient of C·a, where the crank arrangement balances those forces and their
+    moment and the engine has several cranks along a known spacing; None otherwise."""
+    rotating = bal.rotating_model(g)
+    balanced = (
+        g.cranks > 1
+        and abs(rotating.force_forward) < _FREE_OF_RESULTANT
+        and abs(rotating.moment_forward) < _FREE_OF_RESULTANT
+    )
+    if not balanced or spacing_m is None:
+        return {"internal_moment_coefficient": None, "internal_moment_Nm": None}
+    coefficient = bal.internal_moment_max(g)
+    return {
+        "internal_moment_coefficient": coefficient,
+        "internal_moment_Nm": coefficient * C * spacing_m,
+    }
 
 
 def _order_vectors(g, opts, C: float, C_I: float, harmonics, spacing_m):

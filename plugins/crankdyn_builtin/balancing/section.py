@@ -512,6 +512,12 @@ def _means_sentence(t, r) -> str:
         sentence += " " + t(key, what=by_scheme)
     if r["counterweights"] and _counterweights_internal_only(r):
         sentence += " " + t("balancing.counterweights_internal")
+        if r.get("internal_moment_Nm"):
+            sentence += " " + t(
+                "balancing.internal_moment_relieved",
+                moment=t.number_g(r["internal_moment_Nm"], 4),
+                coefficient=t.number_g(r["internal_moment_coefficient"], 4),
+            )
     return sentence
 
 

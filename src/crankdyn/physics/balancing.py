@@ -352,6 +352,28 @@ def scaled(model: OrderModel, amplitude) -> OrderModel:
     )
 
 
+def internal_moment_max(g: BalanceGeometry) -> float:
+    r"""The largest internal moment of the cranks' centrifugal forces along the shaft, in units
+    of C a (one crank's centrifugal force times the cylinder spacing).
+
+    Where the centrifugal forces and their moment are free of resultant (balanced by the crank
+    arrangement), the cranks on either side of a cross-section of the shaft still bend it and
+    the crankcase with the moment
+
+    .. math:: M(x) = C\,a \sum_{x_k < x} e^{i\kappa_k}\,(x - x_k),
+
+    the same from either side. :math:`|M(x)|` is convex between two cranks (a vector linear in
+    x), so its largest value is at a crank's plane; e.g. 1 for an in-line four (cranks 0, 180,
+    180, 0°), :math:`\sqrt{3}` for an in-line six. Poda (2007) section 6: counterweights on
+    the webs relieve the main bearings and the crankcase of these internal moments.
+    """
+    unit = np.exp(1j * np.asarray(g.crank_direction_rad, dtype=float))
+    x = np.asarray(g.crank_position, dtype=float)
+    return max(
+        (float(abs(np.sum(unit[:j] * (x[j] - x[:j])))) for j in range(1, len(x))), default=0.0
+    )
+
+
 def reciprocating_model(g: BalanceGeometry, order: int) -> OrderModel:
     """Order-n reciprocating forces as co- and counter-rotating vectors (textbook §6.1-6.2, extended to any n).
 
