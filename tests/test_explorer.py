@@ -146,6 +146,7 @@ def test_no_even_firing_and_single_crank_engines():
     v6 = fe.explore(6, "V", 4, 60.0).reason  # a 60-degree V6 needs split pins
     assert v6.code == "bank_grid" and v6.values == {"unit_deg": 120.0, "interval_deg": 120.0}
     assert "multiples of 120" in str(v6)
+    assert "split pins, one per cylinder, are not modelled" in str(v6)  # not promised
     radial = fe.explore(9, "radial", 4, top=5)
     assert radial.arrangements == 1 and radial.firing_orders == 1
     assert radial.rows[0].firing_order == ("1", "3", "5", "7", "9", "2", "4", "6", "8")

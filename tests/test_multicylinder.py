@@ -77,6 +77,12 @@ def test_a_firing_order_written_from_another_cylinder_is_the_same_cycle():
             "engine.firing_order",
             "no firing order fires evenly with this bank angle",
         ),
+        # the refusal says split pins fire evenly but are not modelled (no field offers them)
+        (
+            ("V", 4, 6, 60, ["1L", "2R", "3L", "1R", "2L", "3R"], None),
+            "engine.firing_order",
+            "crankdyn models the banks on shared pins only",
+        ),
         # 90 deg intervals and a 90 deg bank: another order does (the V8's)
         (
             ("V", 4, 8, 90, ["1L", "2L", "1R", "2R", "3L", "4L", "3R", "4R"], None),

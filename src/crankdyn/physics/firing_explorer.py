@@ -79,7 +79,8 @@ class NoEvenFiring:
         if self.code == "bank_grid":
             return (
                 f"the bank angles must be multiples of {v['unit_deg']:g} deg for cylinders on one "
-                f"crank pin to fire every {v['interval_deg']:g} deg"
+                f"crank pin to fire every {v['interval_deg']:g} deg (crankdyn models the banks on "
+                "shared crank pins; split pins, one per cylinder, are not modelled)"
             )
         if self.code == "same_phase":
             return "cylinders on one crank pin would fire at the same phase"

@@ -235,8 +235,10 @@ def _shared_crank_message(first: str, other: str, psi: dict, delay: dict, interv
     if min(remainder, interval - remainder) > _TOL:
         return text + (
             f"no firing order fires evenly with this bank angle on shared crank pins (even firing "
-            f"needs the bank angle to be a multiple of {interval:g} deg, or split crank pins); give "
-            "crank_angles_deg with uneven_firing = true to compute the engine with shared pins"
+            f"needs the bank angle to be a multiple of {interval:g} deg; an engine whose crank "
+            "pins are split per cylinder fires evenly otherwise, but crankdyn models the banks on "
+            "shared pins only); give crank_angles_deg with uneven_firing = true to compute the "
+            "engine with shared pins"
         )
     return text + "choose another firing order, or give crank_angles_deg with uneven_firing = true"
 
