@@ -248,3 +248,28 @@ def test_a_chosen_firing_order_is_noted_in_the_reports_bank_letters():
     assert "–".join(order) not in text  # Latin "1L–6R–…"
     printed = "–".join(label.replace("L", "Л").replace("R", "П") for label in order)
     assert f"Порядок работы цилиндров {printed} и схема колен" in text
+
+
+def test_a_v_engines_slave_piston_has_the_smaller_second_harmonic_and_the_note_says_so():
+    """The note printed the master's A_2 as the slave's (a maximum taken over every cylinder,
+    the masters included) and called it larger. With the pin at the bank angle (γ₁ = γ = 60°),
+    R = 90 mm, L = 320 mm and r_p = 68 mm a V engine's slave piston has |A_2| = 0.2562, by an
+    independent linkage calculation, against the master's 0.2870; a radial's slaves exceed it."""
+    data = {
+        **V12,
+        "articulated": {**V12["articulated"], "pin_radius": "68 mm"},
+        "analysis": {"stages": ["balancing"]},
+        "report": {"language": "ru"},
+    }
+    run = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry())
+    r = run.outputs["balancing"].results
+    assert r["slave_second_harmonic_max"] == pytest.approx(0.2562, abs=5e-4)
+    assert r["acceleration_harmonics"]["II"] == pytest.approx(0.2870, abs=5e-4)
+    text = re.sub(r"<[^>]+>", "", render_html(run, default_registry(), "ru").linked_html)
+    text = text.replace("\u2060", "").replace("\xa0", " ")
+    assert "вторая меньше: |A2| = 0,2562 против A2 = 0,2870 у главного" in text
+    assert "имеет меньшую вторую гармонику" in text
+    from conftest import shared_run
+
+    radial = shared_run("radial9-aircraft", None, ("balancing",)).outputs["balancing"].results
+    assert radial["slave_second_harmonic_max"] > radial["acceleration_harmonics"]["II"]

@@ -229,19 +229,24 @@ def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opt
         "slave_pins_master_share_kg": (
             None if slave_kg is None else masses.reciprocating_kg - plain_kg
         ),
-        "slave_second_harmonic_max": _slave_second_harmonic_max(g, harmonics),
+        "slave_second_harmonic_max": _slave_second_harmonic_max(
+            g, harmonics, [c.master for c in engine_layout(scene).cylinders]
+        ),
         "parts_left": _parts_left_results(g, masses, harmonics, left, spacing_m),
         "orders_left_for_masses": dropped,
         "slave_parts_balanced": _parts_left_results(g, masses, harmonics, balanced, spacing_m),
     }
 
 
-def _slave_second_harmonic_max(g, harmonics) -> float | None:
-    """The largest |A_2| of a cylinder's piston acceleration (a slave's exceeds the master's);
-    None where every cylinder moves as the reference does."""
-    if g.cylinder_harmonic_ratio is None:
+def _slave_second_harmonic_max(g, harmonics, masters: list[bool]) -> float | None:
+    """The largest |A_2| of a slave piston's acceleration (a radial's slaves exceed the master's,
+    a V engine's slave on a pin at the bank angle falls short of it); None where every cylinder
+    moves as the reference does."""
+    slaves = [i for i, master in enumerate(masters) if not master]
+    if g.cylinder_harmonic_ratio is None or not slaves:
         return None
-    return float(np.max(np.abs(g.cylinder_harmonic_ratio[2]))) * abs(float(harmonics[2]))
+    ratios = np.abs(np.asarray(g.cylinder_harmonic_ratio[2])[slaves])
+    return float(np.max(ratios)) * abs(float(harmonics[2]))
 
 
 def _slave_acceleration_m_s2(geometry, angular_velocity_rad_s: float, alpha_rad):
@@ -309,8 +314,8 @@ def _part_negligible(model, part: str, scale: float) -> bool:
     return abs(complex(force)) <= scale and abs(complex(moment)) <= scale
 
 
-def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
-    """The notes on what the scene leaves out (no cylinder spacing, articulated rods, no cycle);
+def _input_notes(opts, g, spacing_m, torque) -> list:
+    """The notes on what the scene leaves out (no cylinder spacing, no cycle);
     a balance-shaft spacing without the cylinder spacing is refused."""
     notes: list[tuple[str, dict]] = []
     if opts.balance_shaft_spacing is not None and spacing_m is None and g.cranks > 1:
@@ -323,8 +328,6 @@ def _input_notes(opts, g, spacing_m, rod_type: str, torque) -> list:
         )
     if spacing_m is None and g.cranks > 1:
         notes.append(("balancing.note_no_spacing", {}))
-    if rod_type == "articulated":
-        notes.append(("balancing.note_articulated", {}))
     if torque is None:
         notes.append(("balancing.note_no_torque", {}))
     return notes
@@ -395,7 +398,7 @@ def run(scene, inputs) -> StageOutput:
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     opts, left, dropped = _orders_left(g, opts, means_given, harmonics)
     C, C_I = masses.centrifugal_N, masses.first_order_N
-    notes = _input_notes(opts, g, a, e.rod_type, torque)
+    notes = _input_notes(opts, g, a, torque)
 
     coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
     all_orders = bal.inertia_orders(n_max, k)
@@ -443,6 +446,10 @@ def run(scene, inputs) -> StageOutput:
         **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
     }
 
+    if e.rod_type == "articulated":
+        second = results["slave_second_harmonic_max"]
+        smaller = second is not None and second < abs(float(harmonics[2]))
+        notes.append(("balancing.note_articulated" + ("_smaller" if smaller else ""), {}))
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
     check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
