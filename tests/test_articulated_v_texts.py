@@ -273,3 +273,13 @@ def test_a_v_engines_slave_piston_has_the_smaller_second_harmonic_and_the_note_s
 
     radial = shared_run("radial9-aircraft", None, ("balancing",)).outputs["balancing"].results
     assert radial["slave_second_harmonic_max"] > radial["acceleration_harmonics"]["II"]
+
+
+def test_a_v_engines_scheme_describes_its_one_slave_rod_per_master():
+    """A V engine's master rod carries one slave rod, all alike: the scheme's text named "one of
+    the slave rods" and their slightly different lengths, as a radial's."""
+    data = {**V12, "analysis": {"stages": ["drawing"]}, "report": {"language": "ru"}}
+    run = run_scene(scene_from_dict(data, base_dir=examples_dir()), default_registry())
+    text = re.sub(r"<[^>]+>", "", render_html(run, default_registry(), "ru").linked_html)
+    assert "Главный шатун вместе с пальцем прицепного шатуна является одним звеном" in text
+    assert "одного из прицепных шатунов" not in text and "различаются по длине" not in text

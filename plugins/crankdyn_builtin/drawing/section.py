@@ -80,6 +80,17 @@ def _merged_frames(
     return [(i, ", ".join(names) + "\n" + at) for i, names, at, _ in merged]
 
 
+def _master_rod_kind(positions) -> str | None:
+    """How the scheme's master rod is described: a radial's (``"radial"``), one carrying a single
+    slave rod (``"one_slave"``: a V engine's), one carrying several (``"several"``); None
+    without articulated rods."""
+    if md.is_radial(positions):
+        return "radial"
+    if not md.master_rod_bodies(positions, 0):
+        return None
+    return "one_slave" if md.cylinder_axes(positions) == 2 else "several"
+
+
 def _front_view_kind(positions) -> str:
     """ "row": the scheme shows one cylinder of an in-line row; "rows": one of each bank; "": all."""
     shown = md.front_view(positions).guides
@@ -190,9 +201,7 @@ def render(output: StageOutput, ctx) -> str:
         bank_marks=bank_marks,
         stroke="S" in positions.dimensions,
         front_view=_front_view_kind(positions),
-        master_rod=(
-            "radial" if md.is_radial(positions) else bool(md.master_rod_bodies(positions, 0))
-        ),
+        master_rod=_master_rod_kind(positions),
         counterweight=_counterweight_sentence(t, positions, turned),
         figure_positions=figure_positions,
         svg=Markup(svg),

@@ -1945,6 +1945,11 @@ def _slave_dimensions(ax, geometry, i: int, labels: dict[str, str], extent: floa
         _leader_text(ax, geometry, i, mid, labels[key], extent, f"dimension-{key}-text")
 
 
+def cylinder_axes(geometry) -> int:
+    """How many cylinder axes the scheme draws (a V engine's two, a radial's one per cylinder)."""
+    return len(_one_per_axis(geometry.guides))
+
+
 def is_radial(geometry) -> bool:
     """A radial engine: master rods with slave rods round one crank pin, cylinders on more than
     two axes."""
