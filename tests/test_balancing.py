@@ -1250,3 +1250,22 @@ def test_the_internal_moments_of_the_centrifugal_forces_are_given_with_their_val
     assert "Without them the largest internal moment would be" in text("inline4-petrol", every)
     v8 = shared_run("v8-petrol", None, ("balancing",)).outputs["balancing"].results
     assert v8["internal_moment_Nm"] is None  # a cross-plane V8's ΣM_C is free: no internal moment
+
+
+def test_negligible_moments_alone_are_a_share_of_c_i_a_not_of_a_force():
+    """A boxer four's only negligible remainder is a moment (ΣM_VI): the conclusion compared it
+    with "one cylinder's first-order inertia force amplitude C_I" and then, in brackets, with
+    C_I·a; it is now a share of C_I·a alone."""
+    import html as html_lib
+
+    from conftest import shared_html
+
+    boxer = {"engine": {"layout": "boxer", "firing_order": [1, 3, 2, 4]}}
+    page = shared_html("inline4-petrol", boxer, "en", ("balancing",)).linked_html
+    text = html_lib.unescape(" ".join(re.sub(r"<[^>]+>", "", page).split()))
+    assert re.search(
+        r"The other unbalanced moments of the sixth order \(ΣMVI = [\d.]+ N·m\) are at most "
+        r"[\d.]+ % of CI·a \(one cylinder's first-order inertia force amplitude CI times the "
+        r"cylinder spacing a\) and negligible\.",
+        text,
+    )

@@ -302,10 +302,13 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
             f"{t('balancing.unit_N') if force else t('unit.Nm')}"
         )
     moments = any(not item["quantity"].startswith("sum_") for item in negligible)
-    reference = t("balancing.negligible_reference") + (
-        " " + t("balancing.negligible_reference_moment") if moments else ""
-    )
     forces = any(item["quantity"].startswith("sum_") for item in negligible)
+    if moments and not forces:  # a moment is a share of C_I·a, not of a force
+        reference = t("balancing.negligible_reference_moments_only")
+    else:
+        reference = t("balancing.negligible_reference") + (
+            " " + t("balancing.negligible_reference_moment") if moments else ""
+        )
     kind = "_forces_moments" if forces and moments else ("_moments" if moments else "_forces")
     # named by their orders ("сили шостого порядку"), unless the centrifugal forces are among them
     orders = sorted({item["order"] for item in negligible})
