@@ -283,3 +283,28 @@ def test_a_v_engines_scheme_describes_its_one_slave_rod_per_master():
     text = re.sub(r"<[^>]+>", "", render_html(run, default_registry(), "ru").linked_html)
     assert "Главный шатун вместе с пальцем прицепного шатуна является одним звеном" in text
     assert "одного из прицепных шатунов" not in text and "различаются по длине" not in text
+
+
+def test_a_knuckle_pin_off_the_bank_angle_fails_the_check_and_the_note_says_so():
+    """With γ₁ ≠ γ the slave pistons move unsymmetrically and have odd harmonics, which the
+    orders of the central crank-slider leave out: the direct sum of the real forces then leaves
+    more than the vector method, and the note concluded "balanced" with no word of the failed
+    check. The console warns, naming the pin angle, and the conclusions qualify the balance; at
+    the bank angle itself the check passes and nothing is said."""
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    registry = default_registry()
+    for pin_angle, fails in ((69, True), (60, False)):
+        data = {
+            **V12,
+            "articulated": {**V12["articulated"], "pin_angle_deg": pin_angle},
+            "analysis": {"stages": ["balancing"]},
+            "report": {"language": "en"},
+        }
+        run = run_scene(scene_from_dict(data, base_dir=examples_dir()), registry)
+        assert run.outputs["balancing"].results["residual"]["vanishes"] is not fails
+        lines = console_lines(warnings(run.scene, registry, run), registry)
+        assert any("Check articulated.pin_angle_deg" in line for line in lines) is fails
+        text = re.sub(r"<[^>]+>", "", render_html(run, registry, "en").linked_html)
+        said = "so the balance stated above holds for the analysed orders only" in text
+        assert said is fails

@@ -184,6 +184,34 @@ def _rod_offset_couples(scene, opts, layout, g, masses, harmonics) -> dict | Non
     }
 
 
+def failed_check(scene, results=None) -> list[tuple[str, dict]]:
+    """The direct sum of the real forces over the cycle left more than the orders the vector
+    method analyses: the balance the note states holds for those orders only. Articulated rods
+    whose knuckle pin lies off the bank angle give the slave pistons odd harmonics, which the
+    orders of the central crank-slider leave out."""
+    if not results or results["residual"]["vanishes"]:
+        return []
+    cause = "articulated" if _pins_off_axes(scene) else "orders"
+    return [
+        (
+            "balancing.plausibility_check_failed_" + cause,
+            {"force": results["residual"]["force_max_N"]},
+        )
+    ]
+
+
+def _pins_off_axes(scene) -> bool:
+    """Articulated rods with a knuckle pin off its slave cylinder's axis angle (γ₁ ≠ γ)."""
+    if scene.engine.rod_type != "articulated":
+        return False
+    layout = engine_layout(scene)
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    return any(
+        abs(g.pin_angle_rad - g.bank_angle_rad) > 1e-9
+        for _, g in slave_geometries(scene, layout, opts, ARTICULATED)
+    )
+
+
 def rod_offset_against_pin(scene, results=None) -> list[tuple[str, dict]]:
     """A given rod offset that a given crank-pin width contradicts: rods side by side on the pin
     each take its width over their number, so their planes lie that far apart (a tenth either

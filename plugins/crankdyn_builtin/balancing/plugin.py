@@ -19,7 +19,7 @@ from crankdyn.plugin.contracts import (
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
-from .compute import applies, rod_offset_against_pin, run
+from .compute import applies, failed_check, rod_offset_against_pin, run
 from .notation import SYMBOLS
 from .options import BalancingOptions
 from .section import input_rows, render
@@ -38,7 +38,10 @@ BALANCING_STAGE = Stage(
     tables=("balancing",),
     options_table="balancing",
     options_model=BalancingOptions,
-    plausibility=(PlausibilityRule("rod_offset_pin", rod_offset_against_pin),),
+    plausibility=(
+        PlausibilityRule("rod_offset_pin", rod_offset_against_pin),
+        PlausibilityRule("check_failed", failed_check),
+    ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,
         # the core's letters that hold with their meaning in this section only
