@@ -1,0 +1,31 @@
+"""The catalogs' sentences as written: no word doubled by an edit ("the power take-off end end")."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CATALOGS = sorted(ROOT.glob("plugins/*/*/i18n/*.toml")) + sorted(ROOT.glob("templates/i18n/*.toml"))
+#: A word written twice in a row (a number may be: "1 1" is no typing slip in a formula).
+DOUBLED = re.compile(r"\b([^\W\d_]{2,})\s+\1\b", re.IGNORECASE)
+
+
+def _texts(table: dict, prefix: str = ""):
+    for key, value in table.items():
+        if isinstance(value, dict):
+            yield from _texts(value, f"{prefix}{key}.")
+        elif isinstance(value, str):
+            yield prefix + key, value
+
+
+def test_no_catalog_sentence_doubles_a_word():
+    assert CATALOGS
+    doubled = [
+        f"{path.relative_to(ROOT)}: {key}: {found.group(0)!r}"
+        for path in CATALOGS
+        for key, text in _texts(tomllib.loads(path.read_text(encoding="utf-8")))
+        for found in DOUBLED.finditer(re.sub(r"\{[^}]*\}", " ¤ ", text))
+    ]
+    assert not doubled, "\n".join(doubled)
