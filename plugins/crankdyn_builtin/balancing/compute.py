@@ -474,10 +474,7 @@ def run(scene, inputs) -> StageOutput:
         **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
     }
 
-    if e.rod_type == "articulated":
-        second = results["slave_second_harmonic_max"]
-        smaller = second is not None and second < abs(float(harmonics[2]))
-        notes.append(("balancing.note_articulated" + ("_smaller" if smaller else ""), {}))
+    notes += _articulated_note(e.rod_type, results, harmonics)
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
     check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
@@ -511,6 +508,16 @@ def _internal_moment(g, C: float, spacing_m: float | None) -> dict:
         "internal_moment_coefficient": coefficient,
         "internal_moment_Nm": coefficient * C * spacing_m,
     }
+
+
+def _articulated_note(rod_type: str, results: dict, harmonics) -> list:
+    """The method note of articulated rods: the slave pistons' second harmonic larger than the
+    master's (a radial's) or smaller (a V engine's knuckle pin at the bank angle)."""
+    if rod_type != "articulated":
+        return []
+    second = results["slave_second_harmonic_max"]
+    smaller = second is not None and second < abs(float(harmonics[2]))
+    return [("balancing.note_articulated" + ("_smaller" if smaller else ""), {})]
 
 
 def _order_vectors(g, opts, C: float, C_I: float, harmonics, spacing_m):
