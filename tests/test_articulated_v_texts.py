@@ -308,3 +308,20 @@ def test_a_knuckle_pin_off_the_bank_angle_fails_the_check_and_the_note_says_so()
         text = re.sub(r"<[^>]+>", "", render_html(run, registry, "en").linked_html)
         said = "so the balance stated above holds for the analysed orders only" in text
         assert said is fails
+
+
+def test_the_slave_work_sentence_is_left_out_where_the_printed_torques_agree():
+    """ "The mean torque 2906 N·m is not 12·242.2 = 2906 N·m" would contradict itself: where the
+    printed product equals the printed mean (a slave's work within the print's resolution of
+    the master's), the sentence is left out."""
+    import copy
+    from html import unescape
+
+    run = copy.deepcopy(v12_run("en"))
+    torque = run.outputs["torque"].results
+    torque["slave_work"]["master_torque_Nm"] = torque["mean_Nm"] / 12 * (1 + 1e-6)
+    text = unescape(re.sub(r"<[^>]+>", "", render_html(run, default_registry(), "en").linked_html))
+    assert "the number of cylinders times one master cylinder's mean torque" not in text
+    assert "the number of cylinders times one master cylinder's mean torque" in unescape(
+        v12_text("en")
+    )
