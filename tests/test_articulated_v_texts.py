@@ -325,3 +325,11 @@ def test_the_slave_work_sentence_is_left_out_where_the_printed_torques_agree():
     assert "the number of cylinders times one master cylinder's mean torque" in unescape(
         v12_text("en")
     )
+
+
+def test_the_given_data_name_the_master_rods_mass():
+    """With articulated rods the "connecting rod" of the given data is the master rod (the slave
+    rod has rows of its own)."""
+    text = v12_text()
+    assert "Масса главного шатуна" in text and "Масса шатуна" not in text
+    assert "до центра масс главного шатуна" in text
