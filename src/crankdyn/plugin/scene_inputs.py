@@ -387,18 +387,17 @@ def rounding_parameters(scene) -> ind.RoundingParameters:
         raise SceneError(Problem("cycle.rounding", "(see message)", str(exc))) from None
 
 
-#: The actual peak pressure over the theoretical p_z taken when the scene gives none: the middle
-#: of the method's p_z′ = (0.8…0.9)·p_z, which Poda (2007, §3.1) gives for spark-ignition engines
-#: and diesels alike (the fuel does not burn at once, and the walls take heat meanwhile). With it
-#: a diesel's rounded diagram keeps about 0.95 of the theoretical one's area, near Kolchin and
-#: Demidov's usual fullness φ_п = 0.92–0.95; the theoretical peak p_z′ = p_z would keep about 0.98.
-PEAK_PRESSURE_FRACTION = 0.85
+#: The actual peak pressure over the theoretical p_z taken when the scene gives none: a spark-
+#: ignition engine's 0.85 (the method's p_z′ = (0.8…0.9)·p_z, Poda 2007 §3.1), a diesel's 1
+#: (its combustion goes on at a nearly constant pressure at the start of expansion: p_zд = p_z,
+#: Kolchin and Demidov).
+PEAK_PRESSURE_FRACTION = {"spark": 0.85, "diesel": 1.0}
 
 
 def peak_pressure_fraction(scene) -> float:
     """p_z′/p_z of the rounded diagram: the scene's, or :data:`PEAK_PRESSURE_FRACTION`."""
     given = scene.cycle.rounding.peak_pressure_fraction
-    return float(given) if given is not None else PEAK_PRESSURE_FRACTION
+    return float(given) if given is not None else PEAK_PRESSURE_FRACTION[scene.cycle.ignition]
 
 
 #: The diesel injection advance taken when none is given, deg (textbook 10-40 deg).
