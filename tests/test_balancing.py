@@ -1269,3 +1269,20 @@ def test_negligible_moments_alone_are_a_share_of_c_i_a_not_of_a_force():
         r"cylinder spacing a\) and negligible\.",
         text,
     )
+
+
+def test_a_single_cylinders_shaft_beside_the_crankshaft_leaves_its_couple_in_the_conclusions():
+    """The conclusions said the first order is balanced, while the section said the counter-
+    rotating shaft beside the crankshaft leaves a couple of C_I/2 times the shafts' distance:
+    the conclusions now say it too, per 100 mm."""
+    import html as html_lib
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("petrol-1cyl", None, ("balancing",)).outputs["balancing"].results
+    page = shared_html("petrol-1cyl", None, "en", ("balancing",)).linked_html
+    conclusions = page[page.index('class="conclusions"') :]
+    text = html_lib.unescape(" ".join(re.sub(r"<[^>]+>", "", conclusions).split()))
+    found = re.search(r"leaves a first-order couple of ([\d.]+) N·m for every 100 mm", text)
+    assert found, text[:600]
+    assert float(found.group(1)) == pytest.approx(0.5 * r["first_order_N"] * 0.1, rel=5e-3)

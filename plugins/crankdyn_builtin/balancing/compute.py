@@ -471,6 +471,7 @@ def run(scene, inputs) -> StageOutput:
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
         **_internal_moment(g, C, a),
+        "shaft_beside_couple_per_100mm_Nm": _shaft_beside_couple(g, shafts, C_I),
         **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
     }
 
@@ -508,6 +509,22 @@ def _internal_moment(g, C: float, spacing_m: float | None) -> dict:
         "internal_moment_coefficient": coefficient,
         "internal_moment_Nm": coefficient * C * spacing_m,
     }
+
+
+#: The distance between the shafts' axes a single cylinder's beside-shaft couple is given for, m
+#: (the scene gives the balance shaft no place).
+SHAFT_BESIDE_DISTANCE_M = 0.1
+
+
+def _shaft_beside_couple(g, shafts: list[dict], C_I: float) -> float | None:
+    """A single cylinder's counter-rotating first-order shaft beside the crankshaft: the part of
+    P_I it balances (C_I/2) and its own force act the shafts' distance apart, a couple of
+    C_I/2 times that distance, N·m per :data:`SHAFT_BESIDE_DISTANCE_M`; None otherwise."""
+    if g.cylinders != 1:
+        return None
+    if not any(s["order"] == 1 and s["speed_ratio"] < 0 for s in shafts):
+        return None
+    return 0.5 * C_I * SHAFT_BESIDE_DISTANCE_M
 
 
 def _articulated_note(rod_type: str, results: dict, harmonics) -> list:

@@ -513,6 +513,11 @@ def _means_sentence(t, r) -> str:
     if by_scheme and not single:
         key = "balancing.scheme_balances" + ("_plane" if one_plane(r) else "")
         sentence += " " + t(key, what=by_scheme)
+    if single and r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
+        sentence += " " + t(
+            "balancing.conclusion_shaft_beside_single",
+            per=newton_metres(t, r["shaft_beside_couple_per_100mm_Nm"]),
+        )
     if r["counterweights"] and _counterweights_internal_only(r):
         sentence += " " + t("balancing.counterweights_internal")
         if r.get("internal_moment_Nm"):
@@ -708,15 +713,13 @@ def shaft_beside_sentence(t, r) -> str:
     force it balances and its own are equal and opposite but a distance apart, a couple of
     (C_I/2) times that distance rocking the engine about an axis parallel to the shaft (given per
     100 mm, the shaft's place not being given); "" for any other engine or means."""
-    if len(r["cylinder_labels"]) != 1:
+    per = r.get("shaft_beside_couple_per_100mm_Nm")
+    if not per:
         return ""
-    if not any(s["order"] == 1 and s["speed_ratio"] < 0 for s in r["balance_shafts"]):
-        return ""
-    half = 0.5 * r["first_order_N"]
     return t(
         "balancing.shaft_beside_single",
-        force=newtons(t, half),
-        per=newton_metres(t, half * 0.1),
+        force=newtons(t, 0.5 * r["first_order_N"]),
+        per=newton_metres(t, per),
     )
 
 
