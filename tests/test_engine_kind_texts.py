@@ -166,7 +166,7 @@ def test_a_range_whose_ends_print_alike_is_said_as_one_value():
     from test_scene_corpus import check_ranges
 
     # a flywheel so heavy that the mechanism's own variable inertia changes no printed digit
-    heavy = {"flywheel": {"required_irregularity": 0.00005, "rim_mean_diameter": "500 mm"}}
+    heavy = {"flywheel": {"required_irregularity": 0.00003, "rim_mean_diameter": "500 mm"}}
     html = shared_html("inline4-petrol", heavy, "uk").linked_html
     note = type("Note", (), {"text": _text(html)})()
     assert not check_ranges(note), check_ranges(note)

@@ -892,7 +892,9 @@ def test_the_mean_indicated_pressure_check_leaves_the_pumping_strokes_out():
     )
     text = as_read(shared_html("petrol-1cyl-ru").linked_html)
     gross = f"{r['gross_mean_indicated_pressure_Pa'] / 1e6:.4f}".replace(".", ",")
-    deviation = f"{r['mean_indicated_pressure_deviation_percent']:.2g}".replace(".", ",")
+    from crankdyn.report.i18n import translator
+
+    deviation = translator("ru").number(r["mean_indicated_pressure_deviation_percent"], 2)
     assert (
         f"по диаграмме без насосных ходов – {gross}\u202fМПа; отклонение {deviation}\u202f%" in text
     )

@@ -141,3 +141,31 @@ def test_a_diesels_peak_two_thirds_along_its_isobar_keeps_the_diagram_inside(rho
         )
         is None
     )
+
+
+@pytest.mark.parametrize("advance_deg, delay_deg", [(30.0, 3.3), (22.0, 2.4), (40.0, 14.0)])
+def test_burning_from_c_prime_stays_above_the_compression_line(advance_deg, delay_deg):
+    """Once visible combustion starts at C' the pressure cannot lag behind the compression
+    polytrope: the curve C'-C'' was one cubic from C' (the line's value and slope) to p_c + rise
+    at TDC and sagged below the line (by 4 % at 30° advance); it lies on or above it now, joins
+    it with value and slope at C', rises monotonically, and reaches p_c + rise at TDC."""
+    params, rounding, lines, _, _ = _setup()
+    rounding = dataclasses.replace(
+        rounding, ignition_advance_deg=advance_deg, combustion_delay_deg=delay_deg
+    )
+    tdc = ind._firing_tdc_deg(params)
+    psi_c1 = -(advance_deg - delay_deg)
+    psi = np.linspace(psi_c1, 0.0, 4001)
+    p, _ = ind._combustion_rounding(tdc + psi, np.zeros_like(psi), lines, rounding, 720.0)
+    # the compression polytrope p_a (V_a / V)^n1 itself, independently of the lines' code
+    volume = lines.volume_at(tdc + psi)[0]
+    ratio = params.compression_ratio
+    compression = params.intake_pressure_Pa * (ratio * lines.clearance_volume_m3 / volume) ** (
+        params.compression_index
+    )
+    assert np.all(p >= compression * (1 - 1e-12))
+    assert p[0] == pytest.approx(compression[0], rel=1e-12)
+    assert np.all(np.diff(p) >= 0)
+    assert p[-1] == pytest.approx(
+        ind.compression_end_pressure_Pa(params) + rounding.pressure_rise_to_tdc_Pa, rel=1e-12
+    )

@@ -1423,10 +1423,13 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
 
     C' at psi = -(advance - delay) lies on the compression line (its value and
     slope), C'' at psi = 0 has p_c + rise, Z' at psi = peak_angle has
-    p_z' = fraction * p_z and zero slope.  The slope at C'' is the weighted
-    harmonic mean of the neighbouring secants (PCHIP).  Both segments must
-    pass the Fritsch-Carlson monotonicity test, so the curve rises
-    monotonically and its maximum is exactly p_z' at Z'.  The junction J is
+    p_z' = fraction * p_z and zero slope.  From C' to C'' the pressure is the
+    compression line plus a monotone cubic excess from zero (value and slope)
+    at C' to the rise at TDC: once burning has begun the pressure lies above
+    the compression line.  The slope at C'' is the weighted harmonic mean of
+    the neighbouring secants (PCHIP), at most what keeps that excess monotone;
+    the segment C''-Z' must pass the Fritsch-Carlson monotonicity test, so the
+    curve rises monotonically and its maximum is exactly p_z' at Z'.  The junction J is
     the first angle after Z' at which the expansion line lies below p_z' and
     a monotone Hermite segment from Z' (zero slope) to J (expansion line's
     value and slope) exists; for a zero start slope the Fritsch-Carlson test
@@ -1440,12 +1443,23 @@ def _combustion_rounding(alpha, pressure, lines: _Lines, rounding, cycle, juncti
     psi_peak = rounding.peak_angle_after_tdc_deg
     psi_b1 = params.bdc_deg - rounding.exhaust_opens_before_bdc_deg
     _check_combustion_window(rounding, params, psi_c1)
-    p_c1, s_c1, p_c2, d_c2 = _combustion_rise(lines, rounding, psi_c1, peak)
+    p_c, p_c2, d_c2 = _combustion_rise(lines, rounding, psi_c1, peak)
     psi_j = _combustion_junction(lines, rounding, peak, psi_b1, junction_deg)
     p_j, s_j = (float(x[0]) for x in lines.expansion_at(np.asarray([psi_j])))
-    combustion = hermite_cubic(
-        [psi_c1, 0.0, psi_peak, psi_j], [p_c1, p_c2, peak, p_j], [s_c1, d_c2, 0.0, s_j]
-    )
+    # burning from C': the compression line plus a monotone excess rising from zero (value and
+    # slope) at C' to p_C'' - p_c at TDC, so the pressure never falls below the compression
+    excess = hermite_cubic([psi_c1, 0.0], [0.0, p_c2 - p_c], [0.0, d_c2])
+    after = hermite_cubic([0.0, psi_peak, psi_j], [p_c2, peak, p_j], [d_c2, 0.0, s_j])
+
+    def combustion(psi):
+        psi = np.asarray(psi, dtype=float)
+        before = psi < 0.0
+        return np.where(
+            before,
+            lines.compression_at(np.where(before, psi, psi_c1))[0] + excess(psi),
+            after(psi),
+        )
+
     offset = _local_offset_deg(alpha, lines.tdc_deg + psi_c1, cycle)
     in_window = offset <= psi_j - psi_c1
     return _laid_over(pressure, in_window, combustion, psi_c1 + offset), psi_j
@@ -1477,12 +1491,16 @@ def _check_combustion_window(rounding, params, psi_c1: float) -> None:
 
 
 def _combustion_rise(lines: _Lines, rounding, psi_c1: float, peak: float):
-    """(p_C', slope at C', p_C'', slope at C''), Pa and Pa/deg, of a monotone rise from C' on the
-    compression line through C'' to the peak Z'."""
-    p_c = compression_end_pressure_Pa(lines.params)
+    """(p at TDC on the compression line p_c, p_C'', slope at C''), Pa and Pa/deg, of a monotone
+    rise from C' on the compression line through C'' to the peak Z'.
+
+    The slope at C'' is the PCHIP one of the secants C'-C'' and C''-Z', at most three times the
+    secant of the excess p_C'' - p_c over C'-C'': the excess over the compression line that
+    :func:`_combustion_rounding` lays on from C' then rises monotonically (Fritsch-Carlson)."""
+    p_c = float(lines.compression_at(np.asarray([0.0]))[0][0])
     psi_peak = rounding.peak_angle_after_tdc_deg
-    p_c1, s_c1 = (float(x[0]) for x in lines.compression_at(np.asarray([psi_c1])))
-    p_c2 = p_c + rounding.pressure_rise_to_tdc_Pa
+    p_c1 = float(lines.compression_at(np.asarray([psi_c1]))[0][0])
+    p_c2 = compression_end_pressure_Pa(lines.params) + rounding.pressure_rise_to_tdc_Pa
     _require(
         p_c2 < peak,
         "pressure_rise_to_tdc_Pa",
@@ -1493,21 +1511,14 @@ def _combustion_rise(lines: _Lines, rounding, psi_c1: float, peak: float):
     h1, h2 = -psi_c1, psi_peak
     m1 = (p_c2 - p_c1) / h1
     m2 = (peak - p_c2) / h2
-    d_c2 = _pchip_interior_slope(h1, m1, h2, m2)
-    _require(
-        _hermite_is_monotone(s_c1, d_c2, m1),
-        "combustion_delay_deg",
-        rounding.combustion_delay_deg,
-        "a value for which the C'-C'' rounding is monotone (C' too close to TDC "
-        "for this pressure_rise_to_tdc_Pa)",
-    )
+    d_c2 = min(_pchip_interior_slope(h1, m1, h2, m2), 3.0 * (p_c2 - p_c) / h1)
     _require(
         _hermite_is_monotone(d_c2, 0.0, m2),
         "peak_angle_after_tdc_deg",
         psi_peak,
         "a value for which the C''-Z' rounding is monotone",
     )
-    return p_c1, s_c1, p_c2, d_c2
+    return p_c, p_c2, d_c2
 
 
 def _combustion_junction(lines: _Lines, rounding, peak: float, psi_b1: float, junction_deg):
