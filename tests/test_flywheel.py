@@ -350,7 +350,8 @@ def test_the_speed_figure_shows_the_curves_its_section_describes(detail, curves)
         # one cylinder on one crank: no sums over cylinders, no crank count
         ("petrol-1cyl", "= ms ⟨s′2⟩ + mRR2 =", "+ mRR2 + ms s′(α)2,"),
         # a star's cylinders on one crank: the sum over cylinders, no crank count
-        ("radial9-aircraft", "= ms Σi ⟨s′2⟩ + mRR2 =", "+ mRR2 + Σi ms s′(αi)2,"),
+        # articulated rods: each cylinder's own reciprocating mass
+        ("radial9-aircraft", "= Σi msi ⟨s′2⟩ + mRR2 =", "+ mRR2 + Σi msi s′(αi)2,"),
         ("inline4-petrol", "= ms Σi ⟨s′2⟩ + iк mRR2 =", "+ iкmRR2 + Σi ms s′(αi)2,"),
     ],
 )
@@ -545,3 +546,27 @@ def test_the_speed_regime_sentence_says_where_delta_l_tends_at_low_speed(
     gas = f"{r['excess_work_gas_J']:.4g}"
     assert f"At low speeds ΔL itself tends to {gas} J" in text
     assert f"so near idling δ grows {direction} than 1/ω²." in text
+
+
+def test_articulated_cylinders_enter_the_reduced_inertia_with_their_own_masses():
+    """J_m took the plain m_s = m_pg + m_r l_R/L for every cylinder of a radial, while the
+    balancing and the bays give the master cylinder the reduced master rod's mass and a slave its
+    slave rod's share: J_m is now Σ m_si ⟨s′²⟩ + m_R R² with each cylinder's own mass (⟨s′²⟩ ≈
+    R²(½ + λ²/8), the first terms of the exact mean)."""
+    from conftest import example_data, shared_run
+
+    given = example_data("inline4-petrol")["flywheel"]
+    flywheel = {"flywheel": {k: v for k, v in given.items() if not k.startswith("rim_")}}
+    run = shared_run("radial9-aircraft", flywheel)
+    fw = run.outputs["flywheel"].results
+    b = run.outputs["balancing"].results
+    e = run.scene.engine
+    R, lam = e.crank_radius_m, e.rod_ratio_value
+    masses = b["reciprocating_mass_kg"] + (e.cylinders - 1) * b["slave_reciprocating_mass_kg"]
+    expected = masses * R**2 * (0.5 + lam**2 / 8) + b["rotating_mass_kg"] * R**2
+    own = (
+        fw["mechanism_inertia_mean_kg_m2"]
+        - fw["counterweight_inertia_kg_m2"]
+        - fw["balance_shaft_inertia_kg_m2"]
+    )
+    assert own == pytest.approx(expected, rel=2e-3)

@@ -41,6 +41,14 @@ SYMBOLS = {
     "balance_shaft_radius": Symbol("ρ", {"en": "bs", "uk": "зв", "ru": "ув"}, "unit.mm"),
     "counterweight_mass": Symbol("m", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.kg"),
     "counterweight_radius": Symbol("ρ", {"en": "cw", "uk": "пр", "ru": "пр"}, "unit.mm"),
+    # articulated rods: each cylinder's own reciprocating mass in J_m and J(α)
+    "cylinder_reciprocating_mass": Symbol(
+        "m",
+        {"en": "s"},
+        "unit.kg",
+        sections=("flywheel", "speed_fluctuation"),
+        html="<i>m</i><sub>{sub}<i>i</i></sub>",
+    ),
     # the energy method's flywheel where the exact solution raises it: J_f is the adopted one
     "energy_flywheel_inertia": Symbol(
         "J", {"en": "f", "uk": "мах", "ru": "мах"}, "unit.kg_m2", html="<i>J</i>′<sub>{sub}</sub>"

@@ -21,6 +21,7 @@ from ..physics import forces as phys
 from ..physics import indicator as ind
 from ..physics import layout as lay
 from ..physics.speed_fluctuation import CrankTrain
+from ..scene import options as scene_options
 from .contracts import ArticulatedOptions, BayLoads, PinSizeOptions
 
 
@@ -188,10 +189,13 @@ def rotating_mass_per_crank_kg(
 def crank_train(scene, bays: BayLoads) -> CrankTrain:
     """The reduced-inertia masses of the scene's engine.
 
-    m_s = piston group + the rod's reciprocating part (eq. 17) for every cylinder; m_R from the
-    centrifugal term c = -m_R R omega^2 / F_p of the bay loads, so it holds whatever the bay
-    stage lumped on the crank pin (all rods of the bay, the pin and the webs reduced to R).
-    Articulated slave rods are taken to move like the master (the textbook's assumption).
+    m_s = piston group + the rod's reciprocating part (eq. 17) for every cylinder; with
+    articulated rods each cylinder's own (:func:`articulated_reciprocating_masses_kg`: the reduced
+    master rod's at a master piston, the slave rod's share at a slave's), as the bay stage takes
+    them; m_R from the centrifugal term c = -m_R R omega^2 / F_p of the bay loads, so it holds
+    whatever the bay stage lumped on the crank pin (all rods of the bay, the pin and the webs
+    reduced to R). Articulated slave pistons are taken to move like the master (the textbook's
+    assumption).
     """
     e, m = scene.engine, scene.masses
     layout = bays.layout
@@ -199,10 +203,15 @@ def crank_train(scene, bays: BayLoads) -> CrankTrain:
     omega = e.angular_velocity_rad_s
     rotating = -bays.centrifugal_Pa * bays.piston_area_m2 / (bays.crank_radius_m * omega**2)
     cylinders = layout.cylinders
+    reciprocating = np.full(len(cylinders), m.piston_group + float(rod_rec))
+    if e.rod_type == "articulated":
+        opts = scene_options(scene, "articulated", ArticulatedOptions)
+        master, slave = articulated_reciprocating_masses_kg(scene, layout, opts, "articulated")
+        reciprocating = np.array([master if c.master else slave for c in cylinders])
     return CrankTrain(
         phase_rad=np.radians([c.firing_delay_deg for c in cylinders]),
         crank_of_cylinder=np.array([c.bay for c in cylinders]),
-        reciprocating_kg=np.full(len(cylinders), m.piston_group + float(rod_rec)),
+        reciprocating_kg=reciprocating,
         rotating_kg=float(rotating),
         cranks=layout.cranks,
         crank_radius_m=bays.crank_radius_m,
