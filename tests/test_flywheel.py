@@ -520,7 +520,7 @@ def test_a_too_fast_rim_gets_the_largest_passing_diameter_in_the_note():
     slow = {"flywheel": {"max_rim_speed": "40 m/s"}}
     slow_run = shared_run("inline4-petrol", slow, stages=["flywheel"])
     assert slow_run.outputs["flywheel"].results["rim"]["passing"] is None
-    assert "no rim of this material carries the same inertia" in re.sub(
+    assert "no rim of this material and section carries the same inertia" in re.sub(
         r"<[^>]+>", "", shared_html("inline4-petrol", slow, None, ["flywheel"]).linked_html
     )
 
@@ -544,8 +544,8 @@ def test_the_speed_regime_sentence_says_where_delta_l_tends_at_low_speed(
     page = shared_html(example, changes, "en", ("flywheel",)).linked_html
     text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "").split())
     gas = f"{r['excess_work_gas_J']:.4g}"
-    assert f"At low speeds ΔL itself tends to {gas} J" in text
-    assert f"so near idling δ grows {direction} than 1/ω²." in text
+    assert f"at a lower speed ΔL itself tends to {gas} J" in text
+    assert f"so at low speed δ grows {direction} than 1/ω²." in text
 
 
 def test_articulated_cylinders_enter_the_reduced_inertia_with_their_own_masses():
@@ -570,3 +570,15 @@ def test_articulated_cylinders_enter_the_reduced_inertia_with_their_own_masses()
         - fw["balance_shaft_inertia_kg_m2"]
     )
     assert own == pytest.approx(expected, rel=2e-3)
+
+
+def test_a_stationary_engines_flywheel_holds_at_its_governed_speed():
+    """A generator set's engine runs at its governed speed at every load: the note said the
+    flywheel is also chosen for idling at a lower speed, as a vehicle's is."""
+    from conftest import shared_html
+
+    stationary = {"engine": {"application": "stationary"}}
+    page = shared_html("inline4-petrol", stationary, "en", ("flywheel",)).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "").split())
+    assert "at which a stationary engine runs at every load, no load included" in text
+    assert "starting and idling" not in text

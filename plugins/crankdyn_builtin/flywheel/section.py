@@ -301,7 +301,11 @@ def _conclude_not_needed(ctx, r) -> None:
             shaft=ctx.num(r["engine_inertia_kg_m2"]),
         )
         + " "
-        + t("flywheel.rated_regime_only", rpm=t.number_g(ctx.scene.engine.rpm, 5))
+        + t(
+            "flywheel.rated_regime_only"
+            + ("_stationary" if ctx.scene.engine.application == "stationary" else ""),
+            rpm=t.number_g(ctx.scene.engine.rpm, 5),
+        )
     )
 
 
