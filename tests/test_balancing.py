@@ -1286,3 +1286,15 @@ def test_a_single_cylinders_shaft_beside_the_crankshaft_leaves_its_couple_in_the
     found = re.search(r"leaves a first-order couple of ([\d.]+) N·m for every 100 mm", text)
     assert found, text[:600]
     assert float(found.group(1)) == pytest.approx(0.5 * r["first_order_N"] * 0.1, rel=5e-3)
+
+
+def test_a_v_engines_note_names_no_cylinder_1_it_does_not_have():
+    """A V engine's cylinders are 1L, 1R, …: "cylinder 1" (the balancing means' phases, the
+    torque's cycle shifts, the bearings' axes and angle marks, the list of symbols) named one it
+    does not have; the note says "the first cylinder" instead."""
+    from conftest import shared_html
+
+    page = shared_html("v8-petrol", None, "en").linked_html
+    text = " ".join(re.sub(r"<[^>]+>", " ", page).split())
+    assert not re.findall(r".{40}\bcylinder 1(?![\dLR]).{20}", text)
+    assert "with the first cylinder at its TDC" in text
