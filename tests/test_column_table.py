@@ -74,7 +74,9 @@ def test_pickling_tables_imports_no_pandas():
     assert _modules_after(code).split() == ["False"]
 
 
-# the V8 runs every built-in section the single cylinder does, and the multi-cylinder ones besides
+# the V8 runs every built-in section the single cylinder does, and the multi-cylinder ones besides;
+# a whole report in a process of its own: in the slow tier, which CI runs
+@pytest.mark.slow
 @pytest.mark.parametrize("example", ["v8-petrol.toml"])
 def test_an_html_report_imports_no_pandas(tmp_path, example):
     """Every built-in section reads its tables as arrays: pandas is left to the CSV and XLSX files."""

@@ -90,6 +90,8 @@ def test_an_error_in_the_printer_gives_the_pdf_back_to_the_report(monkeypatch):
     assert printer.print_pdf(HTML, []) is None
 
 
+# a whole PDF report from the command line: in the slow tier, which CI runs
+@pytest.mark.slow
 @in_fresh_process
 def test_the_command_line_prints_through_the_printer_and_leaves_no_process(tmp_path, monkeypatch):
     used = []

@@ -3,7 +3,11 @@ print."""
 
 from __future__ import annotations
 
+import pytest
 
+
+# a torsional exact solution run to tightened tolerances: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_a_torsional_run_that_did_not_settle_is_not_called_the_steady_state():
     """A torsional model that did not settle within its cycles shows its last cycle: its figure
     was captioned "в установившемся режиме" and the conclusions quoted its twist and torque as
@@ -98,6 +102,8 @@ STIFF_FLAT_FOUR = {
 }
 
 
+# a torsional exact solution run to tightened tolerances: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_a_default_rtol_is_tightened_until_the_cycles_repeat():
     """The given rtol = 10⁻⁴ leaves the stiff flat four unsettled after 5 cycles; left to the
     default, the search tightens it and settles within a few cycles, and says at which rtol."""

@@ -499,8 +499,8 @@ def _internal_moment(g, C: float, spacing_m: float | None) -> dict:
     rotating = bal.rotating_model(g)
     balanced = (
         g.cranks > 1
-        and abs(rotating.force_forward) < _FREE_OF_RESULTANT
-        and abs(rotating.moment_forward) < _FREE_OF_RESULTANT
+        and float(np.abs(rotating.force_forward)) < _FREE_OF_RESULTANT
+        and float(np.abs(rotating.moment_forward)) < _FREE_OF_RESULTANT
     )
     if not balanced or spacing_m is None:
         return {"internal_moment_coefficient": None, "internal_moment_Nm": None}
