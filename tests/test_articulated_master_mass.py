@@ -48,3 +48,28 @@ def test_the_balancing_section_says_why_the_master_mass_differs_from_the_forces_
     assert said in text
     pins = f"{SHARE_KG:.3f} kg".replace("-", "−")
     assert (pins if language == "en" else pins.replace(".", ",").replace("kg", "кг")) in text
+
+
+@pytest.mark.parametrize(
+    "language, said",
+    [
+        ("en", "The slave rods' pins on the master rod take {share} kg off at its piston pin"),
+        (
+            "ru",
+            "Пальцы прицепных шатунов на главном шатуне уменьшают массу у его поршневого пальца на {share} кг",
+        ),
+    ],
+)
+def test_the_forces_section_says_its_table_keeps_the_master_rods_own_split(language, said):
+    """The forces table was called the master cylinder's while the torque of all cylinders and
+    the balancing took the reduced master rod (its slave pins' shares): the section says its
+    table keeps the master rod's own split, and by how much the reduced one differs."""
+    forces = shared_run(RADIAL).outputs["forces"].results
+    assert forces["reciprocating_mass_kg"] == pytest.approx(PLAIN_KG, rel=1e-9)
+    assert forces["master_reduced_reciprocating_mass_kg"] == pytest.approx(
+        PLAIN_KG + SHARE_KG, rel=1e-9
+    )
+    page = shared_html(RADIAL, None, language).linked_html
+    text = " ".join(html.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2060", "").split())
+    share = f"{abs(SHARE_KG):.3g}".replace(".", "," if language == "ru" else ".")
+    assert said.format(share=share) in text

@@ -18,9 +18,11 @@ from crankdyn.plugin.contracts import (
     FORCES,
     GAS_PRESSURE,
     KINEMATICS,
+    ArticulatedOptions,
     CrankForces,
     RodDynamicsOptions,
 )
+from crankdyn.plugin.scene_inputs import articulated_reciprocating_masses_kg, engine_layout
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -146,6 +148,18 @@ def run_many(scenes, inputs) -> list[StageOutput]:
     return [finish(found) for (_, finish), found in zip(parts, extremes, strict=False)]
 
 
+def _master_reduced_mass(scene) -> dict:
+    """Articulated rods: the master cylinder's reciprocating mass with the slave rods' shares at
+    its piston pin (the reduced master rod, Poda 2007 fig. 9), kg, which the bays and the
+    balancing take; this section's table keeps the master rod's own split. {} for other rods."""
+    if scene.engine.rod_type != "articulated":
+        return {}
+    layout = engine_layout(scene)
+    opts = options(scene, "articulated", ArticulatedOptions)
+    master, _ = articulated_reciprocating_masses_kg(scene, layout, opts, "articulated")
+    return {"master_reduced_reciprocating_mass_kg": master}
+
+
 def _masses(scene) -> tuple[float, float, float, float]:
     """(reciprocating, rotating, the rod's reciprocating, the rod's rotating) mass of ``scene``,
     kg."""
@@ -268,6 +282,7 @@ def _forces(scene, inputs, curves: dict | None = None):
         )
         torque = phys.crank_torque_Nm(rod.tangential_Pa, radius, area)
     results = _forces_results(engine, motion, gas, curves, masses, area, torque)
+    results.update(_master_reduced_mass(scene))
     series = (
         ("total", "Pa", curves["total_Pa"]),
         ("side", "Pa", rod.side_Pa),
