@@ -205,6 +205,8 @@ def test_summary_shows_main_values_and_leave_out_reasons(petrol):
     assert petrol.skipped and "Calculations left out" in summary
 
 
+# the example notebook run whole: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_example_notebook_runs_and_shows_html_first():
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")

@@ -158,6 +158,8 @@ def test_a_report_that_fails_meanwhile_leaves_no_child():
     assert not children()
 
 
+# a whole report with its forked study child: in the slow tier, which CI runs
+@pytest.mark.slow
 @in_fresh_process
 def test_the_real_error_study_comes_from_the_child_in_a_report(monkeypatch):
     from crankdyn.output import pipeline
@@ -241,6 +243,8 @@ def test_a_stage_failing_or_unpicklable_outputs_in_the_child_leave_the_run_to_th
     assert not children()
 
 
+# a whole report with its forked stage child: in the slow tier, which CI runs
+@pytest.mark.slow
 @in_fresh_process
 def test_a_report_computes_its_stages_in_a_child_while_it_prepares_the_figures(monkeypatch):
     from crankdyn.engine import studies as background

@@ -50,6 +50,8 @@ def _variants_csv(path, n=30):
     return path
 
 
+# a batch of 30 variants: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_batch_of_30_with_two_broken_rows(tmp_path):
     variants = _variants_csv(tmp_path / "variants.csv")
     out = tmp_path / "out"

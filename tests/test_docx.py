@@ -167,6 +167,8 @@ def test_docx_styles_page_and_fields(kinematics):
     assert captions and all(re.match(r"^\w+ \w+\.\d+ ", c) for c in captions)
 
 
+# a batch of Word files: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_batch_writes_one_docx_per_variant(tmp_path):
     from crankdyn.batch.variants import run_batch
 

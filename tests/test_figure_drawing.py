@@ -281,6 +281,8 @@ def test_svg_and_pdf_pages_handed_out_together_are_each_waited_for_from_its_own_
     assert _no_children_left()
 
 
+# a whole PDF report: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_a_report_to_pdf_draws_each_figure_once_and_leaves_no_child(examples, tmp_path):
     from crankdyn.output.pipeline import render_files
 

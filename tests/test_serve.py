@@ -149,6 +149,8 @@ def preview_server(tmp_path):
         thread.join(10)
 
 
+# a live preview server through edits: in the slow tier, which CI runs
+@pytest.mark.slow
 def test_preview_rerenders_on_save_and_shows_errors_as_a_page(preview_server):
     scene, base, _ = preview_server
     first = _wait(
