@@ -246,7 +246,9 @@ def rod_offset_against_pin(scene, results=None) -> list[tuple[str, dict]]:
     ]
 
 
-def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts, scene) -> dict:
+def _slave_results(
+    g, masses, harmonics, slave_kg, left, dropped, spacing_m, opts, scene, layout
+) -> dict:
     """Articulated rods: a slave cylinder's reciprocating mass, what the slave rods' shares add to
     the master's, the largest |A_2| of a cylinder's piston, what only the slave cylinders leave
     unbalanced (parts and whole orders) and the parts only they give which the means balance."""
@@ -258,7 +260,7 @@ def _slave_results(g, masses, harmonics, slave_kg, left, dropped, spacing_m, opt
             None if slave_kg is None else masses.reciprocating_kg - plain_kg
         ),
         "slave_second_harmonic_max": _slave_second_harmonic_max(
-            g, harmonics, [c.master for c in engine_layout(scene).cylinders]
+            g, harmonics, [c.master for c in layout.cylinders]
         ),
         "parts_left": _parts_left_results(g, masses, harmonics, left, spacing_m),
         "orders_left_for_masses": dropped,
@@ -427,7 +429,6 @@ def run(scene, inputs) -> StageOutput:
     opts, left, dropped = _orders_left(g, opts, means_given, harmonics)
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, torque)
-
     coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
     all_orders = bal.inertia_orders(n_max, k)
     means, r_cw, r_sh = _design_means(opts, g, masses, harmonics, e.crank_radius_m, a, left)
@@ -445,6 +446,7 @@ def run(scene, inputs) -> StageOutput:
         left,
     )
 
+    summary = remedy_summary(orders, g, C, C_I, harmonics, opts, left)
     results = {
         **_masses_results(masses, harmonics, all_orders, k, e.rod_ratio_value),
         "cylinder_spacing_m": a,
@@ -462,7 +464,7 @@ def run(scene, inputs) -> StageOutput:
         "counterweights": counterweights,
         "balance_shafts": shafts,
         "residual": residual,
-        "summary": remedy_summary(orders, g, C, C_I, harmonics, opts, left),
+        "summary": summary,
         "reaction_torque_range_Nm": (
             float(np.ptp(torque.torque_Nm)) if torque is not None else None
         ),
@@ -470,9 +472,9 @@ def run(scene, inputs) -> StageOutput:
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
-        **_internal_moment(g, C, a),
+        **_internal_moment(g, C, a, summary),
         "shaft_beside_couple_per_100mm_Nm": _shaft_beside_couple(g, shafts, C_I),
-        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene),
+        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene, layout),
     }
 
     notes += _articulated_note(e.rod_type, results, harmonics)
@@ -487,20 +489,13 @@ def run(scene, inputs) -> StageOutput:
     )
 
 
-#: A resultant of the centrifugal forces (or of their moment) below this share of one crank's
-#: (times a) is the crank arrangement's balance, not a free force (rounding of the crank angles).
-_FREE_OF_RESULTANT = 1e-9
-
-
-def _internal_moment(g, C: float, spacing_m: float | None) -> dict:
+def _internal_moment(g, C: float, spacing_m: float | None, summary: list[dict]) -> dict:
     """The largest internal moment of the centrifugal forces (:func:`bal.internal_moment_max`),
     N·m, and its coefficient of C·a, where the crank arrangement balances those forces and their
-    moment and the engine has several cranks along a known spacing; None otherwise."""
-    rotating = bal.rotating_model(g)
-    balanced = (
-        g.cranks > 1
-        and float(np.abs(rotating.force_forward)) < _FREE_OF_RESULTANT
-        and float(np.abs(rotating.moment_forward)) < _FREE_OF_RESULTANT
+    moment (the ``summary``'s verdicts, which the tables print) and the engine has several cranks
+    along a known spacing; None otherwise."""
+    balanced = g.cranks > 1 and all(
+        s["balanced"] for s in summary if s["quantity"] in ("sum_C", "M_C")
     )
     if not balanced or spacing_m is None:
         return {"internal_moment_coefficient": None, "internal_moment_Nm": None}

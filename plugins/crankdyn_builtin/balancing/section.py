@@ -458,12 +458,7 @@ def _counterweights_means(t, r) -> str:
     if len(set(cranks)) == len(r["crank_directions_deg"]) and len(cranks) > 2:
         where = t("balancing.webs_every_crank")
     else:
-        labels = (
-            cranks[0]
-            if len(cranks) == 1
-            else (", ".join(cranks[:-1]) + t("balancing.means_and") + cranks[-1])
-        )
-        where = t("balancing.webs_cranks", k=len(cranks), labels=labels)
+        where = t("balancing.webs_cranks", k=len(cranks), labels=t.join_and(cranks))
     return t("balancing.means_counterweights_webs", n=bodies, cranks=where)
 
 
