@@ -14,6 +14,7 @@ import logging
 import re
 from importlib import resources
 from pathlib import Path
+from typing import Any
 from urllib.parse import unquote, urlparse
 
 from . import figure_forms, pdf_parts
@@ -126,6 +127,65 @@ def fewer_collections():
         gc.set_threshold(*before)
 
 
+class ParsedStylesheets:
+    """A page's stylesheet (its head's ``<style>``) parsed once in a process and given to each
+    layout of it as parsed: WeasyPrint parses a page's styles at every layout (25 ms for the
+    report's), and a printed report is laid out four times (its two parts, its front matter
+    twice), after a warm-up of the same styles. The stylesheet is given as the user's, with the
+    same font and counter-style configuration each time. The page then has no author
+    stylesheet in its head, which lays it out the same unless the sheet has a rule that
+    ``!important`` or an id selector would weigh differently against the page's ``style``
+    attributes (an author's): such a stylesheet stays in the page, as does one that loads
+    anything (``url(``, ``@import``, ``@font-face``)."""
+
+    _HEAD_STYLE = re.compile(r"<style>(.*?)</style>", re.S)
+
+    def __init__(self) -> None:
+        self._parsed: dict[tuple[str, str], Any] = {}
+        self._configuration: tuple[Any, Any] | None = None
+
+    def taken_from(self, html: str, base: str) -> tuple[str, dict]:
+        """``html`` without its head's stylesheet, and the keyword arguments of WeasyPrint's
+        ``HTML.render`` that give it back parsed (``html`` as it is and none, if it has none
+        that can be kept)."""
+        body = html.find("<body")
+        found = self._HEAD_STYLE.search(html, 0, body if body >= 0 else len(html))
+        if found is None or not self._keeps_its_weight(found.group(1)):
+            return html, {}
+        weasyprint = load_weasyprint()
+        if self._configuration is None:
+            from weasyprint.css.counters import CounterStyle  # lazy: heavy optional import
+            from weasyprint.text.fonts import FontConfiguration  # lazy: heavy optional import
+
+            self._configuration = (FontConfiguration(), CounterStyle())
+        fonts, counters = self._configuration
+        key = (found.group(1), base)
+        sheet = self._parsed.get(key)
+        if sheet is None:
+            if len(self._parsed) >= 8:  # a batch's languages and frames
+                self._parsed.clear()
+            sheet = weasyprint.CSS(
+                string=found.group(1), base_url=base, font_config=fonts, counter_style=counters
+            )
+            self._parsed[key] = sheet
+        kept = {"stylesheets": [sheet], "font_config": fonts, "counter_style": counters}
+        return html[: found.start()] + html[found.end() :], kept
+
+    _DECLARATIONS = re.compile(r"\{[^{}]*\}")
+
+    @classmethod
+    def _keeps_its_weight(cls, css: str) -> bool:
+        """Whether ``css`` lays a page out the same as the user's stylesheet (see the class)."""
+        if any(word in css for word in ("url(", "@import", "@font-face", "!important")):
+            return False
+        selectors = cls._DECLARATIONS.sub("", cls._DECLARATIONS.sub("{}", css))
+        return "#" not in selectors
+
+
+#: This process's parsed stylesheets (:class:`ParsedStylesheets`).
+STYLESHEETS = ParsedStylesheets()
+
+
 def html_to_pdf(html: str, figures=(), *, parallel: bool = False) -> bytes:
     """PDF of ``html``; ``figures`` (FigureFile) are the files its ``figures/NAME.svg`` refer to.
 
@@ -157,7 +217,8 @@ def _laid_out(html: str, figures, parallel: bool, forms: dict[str, bytes] | None
     fetcher = _fetcher(figure_urls(figures, base), forms)
 
     def render(page_html: str):
-        document = HTML(string=page_html, base_url=base, url_fetcher=fetcher).render()
+        page_html, kept = STYLESHEETS.taken_from(page_html, base)
+        document = HTML(string=page_html, base_url=base, url_fetcher=fetcher).render(**kept)
         if forms is None:
             return document
         return figure_forms.StampedDocument(document, forms, base, page_html)

@@ -10,13 +10,20 @@ The names that do load (``libpango-1.0.so.0``) are opened by the loader directly
 ``find_library``; so while WeasyPrint is imported, ``find_library`` answers "not found" for
 those libraries at once. Should that leave WeasyPrint without a library (a system where only
 the search finds them), the import is simply done again the usual way.
+
+Once imported, WeasyPrint's font subsetting asks cffi for arrays typed by their length
+(``ffi.new(f"hb_codepoint_t[{n}]", items)``): cffi parses every C type string it has not seen
+with pycparser, 6 ms each, and a PDF's fonts need a new length each (50 ms a PDF written). Those
+arrays are made as ``T[]`` of their items instead (:class:`_ArraysOfTheirItems`), the same array.
 """
 
 from __future__ import annotations
 
 import contextlib
 import ctypes.util
+import importlib
 import io
+import re
 import sys
 import threading
 from types import ModuleType
@@ -51,6 +58,7 @@ def _forget_failed_import() -> None:
 def load_weasyprint() -> ModuleType:
     """The ``weasyprint`` module, imported once per process (see the module's docstring)."""
     if "weasyprint" in sys.modules:
+        _subset_arrays_of_their_items()  # imported elsewhere first, perhaps
         return sys.modules["weasyprint"]
     with _lock:
         if sys.platform.startswith("linux") and "weasyprint" not in sys.modules:
@@ -59,9 +67,44 @@ def load_weasyprint() -> ModuleType:
                 # not for this first attempt, which the usual import below follows
                 with _direct_library_names_only(), contextlib.redirect_stdout(io.StringIO()):
                     import weasyprint  # lazy: heavy optional import
+                _subset_arrays_of_their_items()
                 return weasyprint
             except OSError:
                 _forget_failed_import()
         import weasyprint  # lazy: heavy optional import
 
+        _subset_arrays_of_their_items()
         return weasyprint
+
+
+#: A C array type of a given length, as cffi reads it: ``hb_codepoint_t[12]``.
+_SIZED_ARRAY = re.compile(r"(\w+)\[(\d+)\]")
+
+
+class _ArraysOfTheirItems:
+    """cffi's ``ffi`` whose ``new("T[n]", items)`` with n items is ``new("T[]", items)``: the same
+    array, from a type string cffi parsed once (everything else is the ``ffi``'s own)."""
+
+    def __init__(self, ffi) -> None:
+        self._ffi = ffi
+
+    def new(self, cdecl, init=None):
+        sized = _SIZED_ARRAY.fullmatch(cdecl) if isinstance(cdecl, str) else None
+        if sized is not None and init is not None and len(init) == int(sized.group(2)):
+            cdecl = sized.group(1) + "[]"
+        return self._ffi.new(cdecl, init)
+
+    def __getattr__(self, name: str):
+        return getattr(self._ffi, name)
+
+
+def _subset_arrays_of_their_items() -> None:
+    """WeasyPrint's font subsetting given :class:`_ArraysOfTheirItems` (see the module's
+    docstring); a WeasyPrint without that module is left as it is."""
+    try:
+        fonts = importlib.import_module("weasyprint.pdf.fonts")
+    except ImportError:  # another WeasyPrint's layout of its modules
+        return
+    ffi = getattr(fonts, "ffi", None)
+    if ffi is not None and not isinstance(ffi, _ArraysOfTheirItems):
+        fonts.ffi = _ArraysOfTheirItems(ffi)
