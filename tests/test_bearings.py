@@ -401,6 +401,30 @@ def test_polar_summary_range_and_the_angles_of_its_extremes():
     assert (s["max_N"], s["min_N"], s["mean_N"]) == (10.0, 2.0, pytest.approx(6.5))
     assert (s["max_crank_angle_deg"], s["min_crank_angle_deg"]) == (0.0, 90.0)
     assert s["max_MPa"] == pytest.approx(10.0 / 0.05 / 1e6)
+    # the cube-law mean of a roller bearing: ((10^p + 2^p + 4^p + 10^p)/4)^(1/p), p = 10/3
+    p = 10.0 / 3.0
+    expected = ((2 * 10.0**p + 2.0**p + 4.0**p) / 4.0) ** (1.0 / p)
+    assert s["rolling_equivalent_N"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_rolling_bearings_mean_equivalent_load():
+    """P_m = (mean Q^p)^(1/p): a constant load is itself; half a cycle at Q₁, half at Q₂ is
+    ((Q₁^p + Q₂^p)/2)^(1/p); |A sin α| with p = 3 is A (4/(3π))^(1/3) (the mean of |sin|³);
+    a load too large for its power to be computed directly still gives its value."""
+    assert brg.rolling_equivalent_load_N(np.full(720, 4.2e3)) == pytest.approx(4.2e3, rel=1e-14)
+    two_levels = np.r_[np.full(360, 1.0e3), np.full(360, 3.0e3)]
+    p = 10.0 / 3.0
+    assert brg.rolling_equivalent_load_N(two_levels) == pytest.approx(
+        ((1.0e3**p + 3.0e3**p) / 2.0) ** (1.0 / p), rel=1e-12
+    )
+    alpha = np.linspace(0.0, 2.0 * np.pi, 100_000, endpoint=False)
+    assert brg.rolling_equivalent_load_N(-5.0e3 * np.sin(alpha), exponent=3.0) == pytest.approx(
+        5.0e3 * (4.0 / (3.0 * np.pi)) ** (1.0 / 3.0), rel=1e-9
+    )
+    assert brg.rolling_equivalent_load_N(two_levels * 1e200) == pytest.approx(
+        1e200 * ((1.0e3**p + 3.0e3**p) / 2.0) ** (1.0 / p), rel=1e-12
+    )
+    assert brg.rolling_equivalent_load_N(np.zeros(8)) == 0.0
 
 
 def test_a_crank_loads_its_journals_by_the_lever_rule_as_the_printed_formula_says():
@@ -701,7 +725,18 @@ def test_supports_usually_on_rolling_bearings_are_said_to_be(example, said):
     """A radial aircraft engine's and a small spark-ignition two-stroke's supports are usually
     rolling bearings: the plain bearings' pressures are said to be a guide only; a car engine's
     and a flat or in-line aircraft engine's (plain bearings, as a Lycoming's) are not."""
-    assert said in shared_html(example, None, "en").linked_html
+    rendered = shared_html(example, None, "en")
+    assert said in rendered.linked_html
+    # and what a rolling bearing is chosen by: its mean equivalent load, the results' largest
+    results = shared_run(example).outputs["bearings"].results
+    main = max(b["rolling_equivalent_N"] for b in results["main_bearings"]) / 1e3
+    text = " ".join(rendered.linked_html.split())
+    if example == "two-stroke-1cyl":
+        rod = max(b["rolling_equivalent_N"] for b in results["rod_bearings"]) / 1e3
+        assert f"reaches {rod:.2f} kN at the big ends and {main:.2f} kN at the main" in text
+        assert f"{rod:.2f} kN at the big ends and {main:.2f} kN at the main supports." in text
+    else:
+        assert f"reaches {main:.2f} kN at the main supports" in text
     car = shared_html("inline4-petrol", None, "en").linked_html
     assert "usually rolling" not in car and "crankcase scavenging" not in car
     flat = shared_html("inline4-petrol", {"engine": {"application": "aircraft"}}, "en")

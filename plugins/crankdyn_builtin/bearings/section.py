@@ -76,6 +76,7 @@ def render(output: StageOutput, ctx) -> str | None:
         application=ctx.scene.engine.application if ctx.scene is not None else None,
         other_applications=OTHER_APPLICATIONS,
         rolling=_rolling_supports(ctx.scene),
+        rolling_loads=_rolling_loads(ctx, r),
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
         main_pressure=_main_pressure(ctx, r),
@@ -410,7 +411,7 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
         ctx.conclude(pressures)
     rolling = _rolling_supports(ctx.scene)
     if rolling:  # the plain-bearing figures above are a guide only for such supports
-        ctx.conclude(t("bearings.conclusion_" + rolling))
+        ctx.conclude(t("bearings.conclusion_" + rolling, **_rolling_loads(ctx, r)))
     elif guided := _guided_application(ctx, r):
         ctx.conclude(guided)
 
@@ -441,6 +442,16 @@ def _rolling_supports(scene) -> str | None:
         return "two_stroke_rolling"
     radial = scene.engine.layout == "radial"  # a flat or in-line aircraft engine runs on plain ones
     return "aircraft_supports" if scene.engine.application == "aircraft" and radial else None
+
+
+def _rolling_loads(ctx, r) -> dict:
+    """The largest mean equivalent loads of rolling bearings (kN, as the tables print loads) at
+    the big ends and at the main supports (``rod``, ``main``)."""
+
+    def largest(bearings: list[dict]) -> str:
+        return ctx.t.fixed(max(b["rolling_equivalent_N"] for b in bearings) / 1e3, 2)
+
+    return {"rod": largest(r["rod_bearings"]), "main": largest(r["main_bearings"])}
 
 
 def _rod_conclusion(ctx, r) -> str:

@@ -25,6 +25,9 @@ TYPICAL_PIN_DIAMETER_PER_BORE = 0.63
 TYPICAL_ROD_BEARING_WIDTH_PER_DIAMETER = 0.45
 #: A crank pin's typical length per diameter with one rod on it.
 TYPICAL_PIN_WIDTH_PER_DIAMETER = 0.60
+#: The exponent of a roller or needle bearing's life in its load (ISO 281:2007: L = (C/P)^p,
+#: p = 10/3; a ball bearing's is 3).
+ROLLER_LIFE_EXPONENT = 10.0 / 3.0
 
 from .extrema import first_argmax, first_argmin
 
@@ -201,6 +204,7 @@ def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m, crank_angle_d
     out = {
         "max_N": float(magnitude.max()),
         "mean_N": float(magnitude.mean()),
+        "rolling_equivalent_N": rolling_equivalent_load_N(magnitude),
         "min_N": float(magnitude.min()),
         "max_MPa": float(magnitude.max() / area / 1e6),
         "mean_MPa": float(magnitude.mean() / area / 1e6),
@@ -210,6 +214,38 @@ def polar_summary(t_Pa, z_Pa, piston_area_m2, diameter_m, width_m, crank_angle_d
         out["max_crank_angle_deg"] = float(angle[first_argmax(magnitude)])
         out["min_crank_angle_deg"] = float(angle[first_argmin(magnitude)])
     return out
+
+
+def rolling_equivalent_load_N(load_N, exponent: float = ROLLER_LIFE_EXPONENT) -> float:
+    r"""Mean equivalent load of a rolling bearing whose load varies over the engine's cycle.
+
+    .. math:: P_m = \left(\frac{1}{n}\sum_{i=1}^{n} Q_i^{\,p}\right)^{1/p}
+
+    the constant load that gives the bearing the same rating life as the varying one (Harris
+    and Kotzalas 2007, the mean effective load of a load cycle; ISO 281:2007 for the life
+    L = (C/P)^p in millions of revolutions). The loads are sampled at equal steps of crank
+    angle over the cycle, so each counts for the same number of revolutions: the relative speed
+    of the bearing's rings is taken as constant (a main bearing's exactly; a big-end bearing's
+    varies by about ±λ with the rod's swing).
+
+    Parameters
+    ----------
+    load_N : array_like
+        Magnitude of the bearing's load at equal steps of crank angle over one cycle, N.
+    exponent : float
+        Life exponent p: 10/3 for roller and needle bearings (default), 3 for ball bearings.
+
+    Returns
+    -------
+    float
+        P_m, N.
+    """
+    load = np.abs(np.asarray(load_N, dtype=float))
+    peak = load.max()
+    if peak == 0.0:
+        return 0.0
+    # scaled by the peak so that the power stays well inside the floating-point range
+    return float(peak * np.mean((load / peak) ** exponent) ** (1.0 / exponent))
 
 
 def _surface_distance_deg(psi_deg, contact_deg):
