@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from conftest import modified, run_cli, write_scene
 
-from crankdyn.cli import main
+from crankdyn.cli import examples_dir, main
 
 # (case id, changes to the petrol example, text the message must contain)
 CASES = [
@@ -266,3 +266,40 @@ def test_subprocess_shows_no_traceback(tmp_path: Path):
     assert "engine.rod_ratio = 1.2: must be > 0 and < 1" in done.stderr
     _no_traceback(done.stderr + done.stdout)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_two_strokes_peak_pressure_is_checked_against_its_actual_compression(
+    tmp_path: Path, capsys
+):
+    """A ported two-stroke compresses from the exhaust ports' closing: p_z must exceed
+    p_a·ε_д^n1 with ε_д = 1 + (1 − ψ)(ε − 1), not p_a·ε^n1 (a pressure between the two is a real
+    engine's); a four-stroke's bound stays p_a·ε^n1."""
+    from crankdyn.physics.indicator import lost_stroke_fraction
+    from crankdyn.scene.model import load_scene
+
+    scene = load_scene(examples_dir() / "two-stroke-1cyl.toml")
+    c, e = scene.cycle, scene.engine
+    psi = lost_stroke_fraction(c.rounding.exhaust_opens_before_bdc_deg, e.rod_ratio_value)
+    eps_d = 1.0 + (1.0 - psi) * (c.compression_ratio - 1.0)
+    actual = c.intake_pressure * eps_d**c.compression_index
+    geometric = c.intake_pressure * c.compression_ratio**c.compression_index
+    assert actual < 0.9 * geometric
+    between = f"{(actual + geometric) / 2 / 1e6:.4f} MPa"
+    below = f"{0.98 * actual / 1e6:.4f} MPa"
+    for pressure, strokes, refused in [(between, 2, False), (below, 2, True), (between, 4, True)]:
+        # the rounding's peak and its rise at TDC kept within so low a p_z
+        rounding = {"peak_pressure_fraction": 1.0, "pressure_rise_to_tdc": "0.01 MPa"}
+        changes = {"cycle": {"max_pressure": pressure, "rounding": rounding}}
+        if strokes == 4:
+            changes["engine"] = {"strokes": 4}
+            changes["cycle"]["exhaust_pressure"] = "0.11 MPa"
+        path = write_scene(tmp_path / "scene.toml", modified("two-stroke-1cyl", changes))
+        code = main(["check", str(path)])
+        err = capsys.readouterr().err
+        assert (code == 2) == refused, (pressure, strokes, err)
+        if refused:
+            bound = actual if strokes == 2 else geometric
+            assert f"cycle.max_pressure = '{pressure}': must exceed the compression-end " in err
+            assert f"p_c = {bound / 1e6:.3g} MPa" in err, err
+            assert ("eps_d" in err) == (strokes == 2), err
+            _no_traceback(err)

@@ -408,16 +408,32 @@ class Cycle(_Strict):
             raise _FieldError(
                 "pre_expansion_ratio", f"must be < compression_ratio ({self.compression_ratio:g})"
             )
-        if (
-            self.max_pressure
-            <= self.intake_pressure * self.compression_ratio**self.compression_index
-        ):
-            pc = self.intake_pressure * self.compression_ratio**self.compression_index
-            raise _FieldError(
-                "max_pressure",
-                f"must exceed the compression-end pressure p_c = p_a*eps^n1 = {pc / 1e6:.3g} MPa",
-            )
         return self
+
+    def check_compression_end(self, strokes: int, rod_ratio: float | None) -> None:
+        """A field error naming ``cycle.max_pressure`` unless p_z exceeds the compression-end pressure
+        p_c = p_a·ε^n1, with a ported two-stroke's actual ratio ε_д = 1 + (1 − ψ)(ε − 1) from
+        its exhaust ports' closing (ψ of the central crank-slider with ``rod_ratio``; none
+        given: the geometric ε, a bound on it)."""
+        if self.source != "theoretical" or self.max_pressure is None:
+            return
+        eps, why = self.compression_ratio, "p_a*eps^n1"
+        opening = self.rounding.exhaust_opens_before_bdc_deg
+        if strokes == 2 and rod_ratio is not None and 0.0 < opening:
+            from ..physics.indicator import lost_stroke_fraction  # lazy: two-strokes only
+
+            psi = float(lost_stroke_fraction(opening, rod_ratio))
+            eps = 1.0 + (1.0 - psi) * (eps - 1.0)
+            why = (
+                f"p_a*eps_d^n1, eps_d = 1 + (1 - psi)*(eps - 1) = {eps:.4g}, the actual "
+                f"compression ratio from the exhaust ports' closing, psi = {psi:.4g}"
+            )
+        pc = self.intake_pressure * eps**self.compression_index
+        if self.max_pressure <= pc:
+            raise _FieldError(
+                "cycle.max_pressure",
+                f"must exceed the compression-end pressure p_c = {pc / 1e6:.3g} MPa ({why})",
+            )
 
 
 DEFAULT_TABLE_STEP_DEG = 10.0
@@ -506,6 +522,9 @@ class Scene(_Strict):
                     "applies to four-stroke engines only (valve timing near TDC and "
                     "the exhaust stroke); remove it for a two-stroke engine",
                 )
+        if self.cycle is not None:
+            rod = self.engine.rod_ratio_value if self.engine.has_rod else None
+            self.cycle.check_compression_end(self.engine.strokes, rod)
         if self.cycle is not None and self.masses is None:
             raise _FieldError(
                 "masses",
