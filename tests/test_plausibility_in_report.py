@@ -203,3 +203,18 @@ def test_a_given_mean_indicated_pressure_off_the_diagrams_is_warned_of_on_the_co
         key == "indicator.plausibility_mean_pressure"
         for key, _ in warnings(within.result.scene, REGISTRY, within.result)
     )
+
+
+@pytest.mark.parametrize(
+    ("changes", "stages"),
+    [
+        ({"engine": {"stroke": "140 mm", "rpm": 3000}}, ("kinematics",)),  # S/D = 1.71: given data
+        ({"engine": {"effective_power": "62 kW"}}, ("torque",)),  # η_m = 0.976: its own section
+    ],
+)
+def test_a_plausibility_sentence_is_a_paragraph_not_its_markup_as_text(changes, stages):
+    """The given data's sentences are joined to its markup as markup: a paragraph of class
+    "plausibility", never "<p class=…>" printed in the note as text."""
+    note = Note("inline4-petrol", changes, stages, "uk")
+    assert note.html.count('<p class="plausibility">') == 1
+    assert "&lt;p" not in note.html and "&lt;/" not in note.html

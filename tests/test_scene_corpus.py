@@ -337,8 +337,15 @@ def check_symbols(note: Note) -> list[str]:
     return [f"undefined symbol {token} in {stage}" for stage, token in sorted(missing)]
 
 
+#: A tag of the note's markup escaped, so printed as text ("<p class=…>", "</p>").
+ESCAPED_TAG = re.compile(
+    r".{0,30}&lt;/?\u2060?(?:p|div|span|i|b|sub|sup|a|table|t[rdh]|li|[ou]l|h\d)\b.{0,30}"
+)
+
+
 def check_structure(note: Note) -> list[str]:
-    case, language, problems = note.case, note.language, []
+    case, language = note.case, note.language
+    problems = [f"markup printed as text: {m!r}" for m in ESCAPED_TAG.findall(note.body)]
     if case.single_crank:
         for pattern in SEVERAL_CRANKS[language] + RUNNING_TORQUE:
             problems += [
@@ -803,7 +810,8 @@ def test_a_sample_of_generated_notes_prints_as_a_supervisor_expects(kind, tmp_pa
 
 def test_the_checks_find_a_planted_defect():
     """Each check reads what it checks: a number of the conclusions in no table, a row angle off the
-    whole degree, a table referred to after it, a software word, a radial's crank star."""
+    whole degree, a table referred to after it, a software word, a radial's crank star, a tag
+    printed as text."""
     import copy
 
     name = next(c.name for c in DEFAULT_SCENES if "radial4-" in c.name)  # in Ukrainian
@@ -817,6 +825,7 @@ def test_the_checks_find_a_planted_defect():
     body = re.sub(r"(<tbody><tr[^>]*><td>)0(</td>)", r"\g<1>0,5\2", body, count=1)
     body = re.sub(r"табл\.\s+2\.1", "табл. 9.9", body)
     body = body.replace("<h2>1 ", '<h2>1 <h3 class="subsection" id="sec-1.1">1.1 …</h3>', 1)
+    body = body.replace("</h2>", "</h2>&lt;p class=&#34;plausibility&#34;&gt;", 1)
     note.body = body
     for attribute in ("text", "lines", "chapters", "tables"):
         note.__dict__.pop(attribute, None)
@@ -827,3 +836,4 @@ def test_the_checks_find_a_planted_defect():
     assert any("сцена" in p for p in found["software"]), found
     assert any("зірка кривошипів" in p for p in found["structure"]), found
     assert any("1.1" in p for p in found["subsections"]), found
+    assert any("markup printed as text" in p for p in found["structure"]), found

@@ -317,7 +317,7 @@ def cite_sources(text: str, references: list[str]) -> str:
     return _CITED_KEY.sub(number, text)
 
 
-def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, list[str]]:
+def plausibility_text(t, found, references: list[str], said: set) -> tuple[Markup, list[str]]:
     """The section's paragraphs and the conclusions' sentences of the warnings ``found``
     (:func:`crankdyn.report.plausibility.report_key`) not ``said`` before (two stages may judge one
     value); a warning's ``source`` parameter (a catalog key of the reference its limits come
@@ -339,7 +339,8 @@ def plausibility_text(t, found, references: list[str], said: set) -> tuple[str, 
         conclusion = t(report_key(t, key, "conclusion"), **shown)
         if conclusion:
             conclusions.append(conclusion)
-    return "".join(paragraphs), conclusions
+    # markup: joined to a section's markup as it is, not escaped again
+    return Markup("".join(paragraphs)), conclusions
 
 
 def appendix_letter(t, index: int) -> str:
@@ -638,6 +639,7 @@ PLAUSIBILITY_MARK = "<!-- plausibility -->"
 
 def _with_warnings(body: str, found: str) -> str:
     """The section's ``body`` with its plausibility sentences ``found`` at its mark or at its end."""
+    found = str(found)  # the section's body is its rendered markup, taken as it is
     if PLAUSIBILITY_MARK in body:
         return body.replace(PLAUSIBILITY_MARK, found, 1)
     return body + found
