@@ -1250,6 +1250,20 @@ def test_the_internal_moments_of_the_centrifugal_forces_are_given_with_their_val
     assert "Without them the largest internal moment would be" in text("inline4-petrol", every)
     v8 = shared_run("v8-petrol", None, ("balancing",)).outputs["balancing"].results
     assert v8["internal_moment_Nm"] is None  # a cross-plane V8's ΣM_C is free: no internal moment
+    # no means at all, ΣP_II left to the mounts (a straight eight's ΣP_IV alike): the section and
+    # the conclusions still give the internal moment and its remedy
+    none = {"balancing": {"balance_orders": []}}
+    r = shared_run("inline4-petrol", none, ("balancing",)).outputs["balancing"].results
+    assert not r["counterweights"] and not r["balance_shafts"]
+    page = text("inline4-petrol", none)
+    moment = f"{r['internal_moment_Nm']:.4g}"  # C·a, to four digits
+    assert "No balancing means are fitted" in page
+    assert "Counterweights on the webs of every crank would relieve them" in page
+    conclusions = page[page.rindex("Conclusions") :]
+    assert (
+        f"still bend the crankshaft and the crankcase between the cranks with internal moments "
+        f"of up to {moment} N·m (1·C·a)"
+    ) in conclusions.replace("\u202f", ""), conclusions
 
 
 def test_negligible_moments_alone_are_a_share_of_c_i_a_not_of_a_force():

@@ -221,7 +221,15 @@ def test_a_main_journal_loaded_by_in_phase_cranks_is_said_to_be_and_the_remedy_n
         f"Наибольшую среднюю нагрузку несёт коренная шейка 2–3; она воспринимает главным образом центробежные силы "
         f"соседних колен: их равнодействующая {kn} кН"
     ) in text
-    assert "Противовесы на щеках колен, прилегающих к этой шейке, сняли бы" in text
+    # the remedy: every crank balanced by itself; counterweights on cranks 2 and 3 alone, in
+    # phase, would leave a free centrifugal force of 2·C (the shaft's own ΣC = 0)
+    directions = shared_run("inline4-petrol").outputs["balancing"].results["crank_directions_deg"]
+    assert directions[1] == directions[2]
+    assert (
+        "Противовесы на щеках каждого колена, каждый из которых уравновешивает своё колено, "
+        "сняли бы с неё эту нагрузку; только на коленах у этой шейки они оставили бы "
+        "центробежные силы вала неуравновешенными."
+    ) in text
     assert "Коренную шейку 2–3 нагружают главным образом центробежные силы соседних колен" in text
     assert f"для одного колена C = {kn} кН" in text
 
@@ -437,11 +445,11 @@ def test_a_centrifugally_loaded_journal_over_its_pressure_gets_counterweights_fi
     text = _text(shared_html("inline4-petrol", None, "ru").linked_html)
     assert (
         "нагрузка главным образом центробежная, поэтому прежде всего следует установить "
-        "противовесы на щеки у этой шейки; без них ей нужна площадь проекции d · B ≥"
+        "противовесы на щеки каждого колена; без них ей нужна площадь проекции d · B ≥"
     ) in text
     assert (
         "коренную шейку нагружают главным образом центробежные силы соседних колен, которые "
-        "сняли бы противовесы на прилегающих щеках; без противовесов площадь проекции коренной "
+        "сняли бы противовесы на щеках каждого колена; без противовесов площадь проекции коренной "
         "шейки следовало бы увеличить"
     ) in text
     counterweights = shared_html("inline3-petrol", None, "ru").linked_html

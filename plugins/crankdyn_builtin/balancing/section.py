@@ -85,6 +85,14 @@ def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None
     elif left_without_means:  # the decision the section states: no means, the mounts
         aircraft = " " + t("balancing.no_shafts_aircraft") if no_shafts_aircraft else ""
         ctx.conclude(t("balancing.no_means_left", left=left_without_means) + aircraft)
+    if r.get("internal_moment_Nm") and not r["counterweights"]:  # they would bend the shaft
+        ctx.conclude(
+            t(
+                "balancing.conclusion_internal_moment",
+                moment=t.number_g(r["internal_moment_Nm"], 4),
+                coefficient=t.number_g(r["internal_moment_coefficient"], 4),
+            )
+        )
     _conclude_slaves_and_offset(ctx, r)
 
 
