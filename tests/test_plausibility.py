@@ -21,6 +21,10 @@ CATALOGS = Path(__file__).parents[1] / "templates" / "i18n"
 REGISTRY = default_registry()
 
 
+#: The example's bore (82 mm) with a stroke of 3.9 of it, slow enough for its piston speed.
+LONG_STROKE = {"stroke": "320 mm", "rpm": 1000, "rod_ratio": 0.25}
+
+
 def _keys(changes: dict, example: str = "petrol-1cyl") -> list[str]:
     scene = scene_from_dict(modified(example, changes), base_dir=examples_dir())
     return [key for key, _ in warnings(scene, REGISTRY)]
@@ -51,6 +55,13 @@ def test_mean_piston_speed_against_s_n_over_30():
         ({"engine": {"stroke": "140 mm", "rpm": 3000}}, ["plausibility.stroke_bore"]),  # S/D = 1.71
         ({"engine": {"stroke": "40 mm"}}, ["plausibility.stroke_bore"]),  # S/D = 0.49
         ({"engine": {"stroke": "130 mm"}}, []),  # 1.59
+        # a low-speed marine crosshead diesel's S/D = 3…4.7, not a car engine's
+        ({"engine": {**LONG_STROKE, "application": "marine"}}, []),  # 3.9
+        ({"engine": LONG_STROKE}, ["plausibility.stroke_bore"]),
+        (
+            {"engine": {**LONG_STROKE, "stroke": "400 mm", "application": "marine"}},
+            ["plausibility.stroke_bore"],  # 4.88
+        ),
         ({"cycle": {"max_pressure": "26 MPa"}}, ["plausibility.peak_pressure"]),
         ({"masses": {"rod_cm_fraction": 0.7}}, ["plausibility.rod_cm"]),
         ({"masses": {"rod_cm_fraction": 0.05}}, ["plausibility.rod_cm"]),

@@ -28,6 +28,9 @@ from .i18n import translator
 MAX_MEAN_PISTON_SPEED_M_S = 25.0
 ROD_RATIO_RANGE = (0.15, 0.45)
 STROKE_BORE_RANGE = (0.5, 1.6)
+#: A marine engine's: the low-speed two-stroke crosshead diesels run at S/D = 3…4.7 (the longest
+#: strokes of real engines, MAN B&W's G-type about 4.7).
+MARINE_STROKE_BORE_RANGE = (0.5, 4.8)
 MAX_PEAK_PRESSURE_PA = 25e6
 ROD_CM_FRACTION_RANGE = (0.1, 0.5)
 #: A real engine at its rated speed loses at least 5 % of its indicated power to friction,
@@ -70,14 +73,12 @@ def _piston_speed(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
 
 def _stroke_bore(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
     ratio = scene.engine.stroke / scene.engine.bore
-    if STROKE_BORE_RANGE[0] <= ratio <= STROKE_BORE_RANGE[1]:
+    low, high = (
+        MARINE_STROKE_BORE_RANGE if scene.engine.application == "marine" else STROKE_BORE_RANGE
+    )
+    if low <= ratio <= high:
         return []
-    return [
-        (
-            "plausibility.stroke_bore",
-            {"ratio": ratio, "low": STROKE_BORE_RANGE[0], "high": STROKE_BORE_RANGE[1]},
-        )
-    ]
+    return [("plausibility.stroke_bore", {"ratio": ratio, "low": low, "high": high})]
 
 
 def _rod_ratio(scene, results=None) -> list[tuple[str, dict[str, Any]]]:
