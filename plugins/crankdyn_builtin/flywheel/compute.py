@@ -193,6 +193,36 @@ def _excess_results(excess, torque) -> dict:
     }
 
 
+#: The speeds, as fractions of the scene's, at which the note gives δ with the same J and
+#: cylinder pressures.
+LOWER_SPEED_FRACTIONS = (0.75, 0.5, 0.25)
+
+
+def lower_speeds(scene, torque, train, total_inertia_kg_m2: float) -> list[dict] | None:
+    """ΔL and δ with the same cylinder pressures and the same J at :data:`LOWER_SPEED_FRACTIONS`
+    of the scene's speed (:func:`fw.excess_work_at_speed_J`); None where the loads take the rod as
+    a rigid body, whose inertia torque the two-mass J(α) does not hold."""
+    if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
+        return None
+    omega = torque.angular_velocity_rad_s
+    alpha = np.radians(torque.crank_angle_deg)
+    _, derivative = train.series()(alpha)
+    gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, omega)
+    inertia = np.asarray(torque.torque_Nm) - gas
+    rows = []
+    for k in LOWER_SPEED_FRACTIONS:
+        excess = fw.excess_work_at_speed_J(alpha, gas, inertia, k)
+        rows.append(
+            {
+                "speed_fraction": k,
+                "rpm": k * scene.engine.rpm,
+                "excess_work_J": excess,
+                "irregularity": fw.cyclic_irregularity(excess, total_inertia_kg_m2, k * omega),
+            }
+        )
+    return rows
+
+
 def gas_excess_work_J(scene, torque, train) -> float | None:
     """ΔL of the gas forces' torque alone, J: the output torque with the reciprocating masses'
     inertia torque −½J′(α)ω² taken out (:func:`sf.gas_torque_Nm`), which shows how much of ΔL
@@ -315,6 +345,7 @@ def run(scene, inputs) -> StageOutput:
         **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
+        "lower_speeds": lower_speeds(scene, torque, train, total),
         "flywheel_share": flywheel / total,
         # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
         "flywheel_inertia_difference_kg_m2": (

@@ -48,6 +48,7 @@ __all__ = [
     "ExcessWork",
     "excess_work",
     "cyclic_irregularity",
+    "excess_work_at_speed_J",
     "required_inertia_kg_m2",
     "RimDesign",
     "thin_rim_mass_kg",
@@ -126,6 +127,38 @@ def cyclic_irregularity(excess_work_J, inertia_kg_m2, angular_velocity_rad_s):
     if inertia_kg_m2 <= 0:
         raise ValueError("inertia_kg_m2 must be positive")
     return excess_work_J / (inertia_kg_m2 * angular_velocity_rad_s**2)
+
+
+def excess_work_at_speed_J(crank_angle_rad, gas_torque_Nm, inertia_torque_Nm, speed_fraction):
+    r"""Excess work at another speed with the same cylinder pressures.
+
+    .. math:: M(\alpha) = M_g(\alpha) + k^2 M_j(\alpha), \qquad \Delta L = \max W - \min W
+
+    The reciprocating masses' inertia torque :math:`M_j = -\tfrac12 J'(\alpha)\,\omega^2`
+    scales with the square of the speed (:math:`k = \omega/\omega_n`), the gas torque
+    :math:`M_g` stays as it is: the same cylinder pressures at the lower speed, which a real
+    engine's change with its load and filling.
+
+    Parameters
+    ----------
+    crank_angle_rad : array_like
+        Uniform crank-angle grid over one cycle [rad].
+    gas_torque_Nm : array_like
+        Torque of the gas forces alone on that grid [N m].
+    inertia_torque_Nm : array_like
+        Inertia torque of the reciprocating masses at the reference speed :math:`\omega_n` [N m].
+    speed_fraction : float
+        :math:`k = \omega/\omega_n` [-].
+
+    Returns
+    -------
+    float
+        :math:`\Delta L` at :math:`k\,\omega_n` [J] (:func:`excess_work`).
+    """
+    torque = np.asarray(gas_torque_Nm, dtype=float) + speed_fraction**2 * np.asarray(
+        inertia_torque_Nm, dtype=float
+    )
+    return excess_work(crank_angle_rad, torque).excess_work_J
 
 
 def required_inertia_kg_m2(excess_work_J, irregularity, angular_velocity_rad_s):
