@@ -264,8 +264,9 @@ def test_the_table_lists_delta_only_where_it_is_a_result(changes, shown):
 
 
 def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_flywheel():
-    """J_f = J_0 − J_m − J_e < 0: the engine meets [δ] by itself; the difference is printed with its
-    sign, the table says the flywheel is not needed and the abstract and conclusions design none."""
+    """J_m + J_e > J_0: the engine meets [δ] by itself; the equation compares the two (a negative
+    flywheel inertia is printed nowhere), the abstract and the conclusions design none, and a
+    vehicle's note says it carries a flywheel all the same."""
     from crankdyn.report.document import render_html
 
     result = run(
@@ -286,10 +287,20 @@ def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_fly
         "within the required [δ] = 0.2: at the given speed no flywheel is needed" in text
     )  # the conclusions
     plain = re.sub(r"[\u2009\u202f\u00a0]", " ", html)
-    printed = re.search(r">(−\d+[.]\d+) kg·m² &lt; 0<", plain)  # the subtraction's own result
-    assert printed and float(printed.group(1).replace("−", "-")) == pytest.approx(
-        difference, rel=1e-3
+    printed = re.search(r" = ([\d.]+) kg·m² &gt; <i>J</i><sub>0</sub>", plain)  # J_m + J_e
+    assert printed and float(printed.group(1)) == pytest.approx(r["own_inertia_kg_m2"], rel=1e-3)
+    assert "&lt; 0" not in plain and "J_f is negative" not in text
+    assert "A vehicle's engine carries a flywheel all the same" not in text  # no application
+    car = run(
+        "v8-petrol",
+        {
+            "engine": {"application": "automotive"},
+            "flywheel": {"required_irregularity": 0.2, "engine_inertia": "5 kg*m^2"},
+        },
     )
+    html = render_html(car, default_registry(), "en").linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", html)).split())
+    assert text.count("A vehicle's engine carries a flywheel all the same") == 2  # and concluded
 
 
 def test_a_rim_faster_than_allowed_fails_in_the_abstract_and_the_conclusions():

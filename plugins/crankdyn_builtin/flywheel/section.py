@@ -65,6 +65,7 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/flywheel.html.j2",
         propeller=propeller,
+        vehicle_applications=VEHICLE_APPLICATIONS,
         r=r,
         cylinders=ctx.scene.engine.cylinders,
         cranks=cranks,
@@ -285,6 +286,11 @@ def _conclude_rim_too_fast(ctx, r: dict) -> None:
     )
 
 
+#: The engines of vehicles: they carry a flywheel for starting, idling and moving off and for the
+#: clutch, whatever the rated speed's irregularity asks for.
+VEHICLE_APPLICATIONS = ("automotive", "tractor", "motorcycle")
+
+
 def _conclude_not_needed(ctx, r) -> None:
     """The abstract's and the conclusions' words where the engine's own inertia meets [δ]: no
     flywheel is designed, none is reported."""
@@ -305,6 +311,11 @@ def _conclude_not_needed(ctx, r) -> None:
             "flywheel.rated_regime_only"
             + ("_stationary" if ctx.scene.engine.application == "stationary" else ""),
             rpm=t.number_g(ctx.scene.engine.rpm, 5),
+        )
+        + (
+            " " + t("flywheel.conclusion_vehicle_flywheel_still")
+            if ctx.scene.engine.application in VEHICLE_APPLICATIONS
+            else ""
         )
     )
 
