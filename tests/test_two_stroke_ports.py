@@ -310,3 +310,20 @@ def test_a_thermal_p_i_check_still_explains_a_fullness_above_one():
     assert "Check: the thermal calculation gives a mean indicated pressure of 0.5500 MPa" in text
     assert f"the diagram fullness: φf = pi/pi′ = {phi:.4g}" in text.replace("\u2060", "")
     assert "whereas the actual blowdown lasts" in text
+
+
+def test_only_a_spark_ignition_two_stroke_is_said_to_be_scavenged_by_its_crankcase():
+    """The forces' note on p_0: a crankcase-scavenged (spark-ignition) two-stroke's crankcase
+    is its scavenging pump, whose work the note leaves out; a diesel two-stroke is scavenged by
+    a blower or a turbocharger, and its note says what a four-stroke's does."""
+    from tests.conftest import shared_run
+
+    spark = shared_run("two-stroke-1cyl").outputs["forces"].notes
+    diesel = {"engine": {"rpm": 2000}, "cycle": {"ignition": "diesel", "pre_expansion_ratio": 1.3}}
+    compression = shared_run("two-stroke-1cyl", diesel).outputs["forces"].notes
+    assert [key for key, _ in spark if key.startswith("forces.note_gauge")] == [
+        "forces.note_gauge_two_stroke"
+    ]
+    assert [key for key, _ in compression if key.startswith("forces.note_gauge")] == [
+        "forces.note_gauge"
+    ]

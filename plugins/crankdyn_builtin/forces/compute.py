@@ -296,7 +296,7 @@ def _forces(scene, inputs, curves: dict | None = None):
     def finish(extremes: dict) -> StageOutput:
         results.update(extremes)
         loads = (rod, resultant_Pa, torque)
-        return _forces_output(results, engine, motion, curves, loads, exact, area)
+        return _forces_output(results, scene, motion, curves, loads, exact, area)
 
     return series, finish
 
@@ -363,10 +363,11 @@ def _forces_results(engine, motion, gas, curves: dict, masses, area: float, torq
     return results
 
 
-def _forces_output(results: dict, engine, motion, curves: dict, loads, exact, area: float):
+def _forces_output(results: dict, scene, motion, curves: dict, loads, exact, area: float):
     """The stage's output from its complete ``results``: the forces handed on, the forces table
     (the exact rod model's columns last) and the notes."""
     rod, resultant_Pa, torque = loads
+    engine = scene.engine
     pressures = {
         "gas_Pa": curves["gas_Pa"],
         "inertia_Pa": curves["inertia_Pa"],
@@ -399,9 +400,14 @@ def _forces_output(results: dict, engine, motion, curves: dict, loads, exact, ar
         side_Pa=rod.side_Pa,
         rod_Pa=rod.rod_Pa,
     )
+    # a spark-ignition two-stroke is scavenged by its crankcase; a diesel one by a blower or a
+    # turbocharger, with a space of constant pressure under its piston
+    crankcase_scavenged = (
+        engine.strokes == 2 and scene.cycle is not None and scene.cycle.ignition == "spark"
+    )
     notes = [
         (
-            "forces.note_gauge" + ("_two_stroke" if engine.strokes == 2 else ""),
+            "forces.note_gauge" + ("_two_stroke" if crankcase_scavenged else ""),
             {"p0": engine.crankcase_pressure / 1e6},
         ),
         _inertia_work_note(results["inertia_work_relative"]),

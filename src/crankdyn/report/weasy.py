@@ -107,4 +107,4 @@ def _subset_arrays_of_their_items() -> None:
         return
     ffi = getattr(fonts, "ffi", None)
     if ffi is not None and not isinstance(ffi, _ArraysOfTheirItems):
-        fonts.ffi = _ArraysOfTheirItems(ffi)
+        setattr(fonts, "ffi", _ArraysOfTheirItems(ffi))  # noqa: B010 - a module found by name
