@@ -7,7 +7,7 @@ import pytest
 from test_plausibility_in_report import REGISTRY, Note
 
 from crankdyn.report.i18n import translator
-from crankdyn_builtin.balancing.notation import newton_metres
+from crankdyn_builtin.balancing.notation import newton_metres, newtons
 
 
 @pytest.mark.parametrize(
@@ -17,6 +17,22 @@ from crankdyn_builtin.balancing.notation import newton_metres
 def test_a_moment_is_printed_to_a_tenth_or_with_two_significant_digits_under_one(moment, printed):
     t = translator("ru", REGISTRY.catalogs)
     assert newton_metres(t, moment) == printed
+
+
+@pytest.mark.parametrize(
+    "value, moment, force",
+    [
+        # a low-speed marine engine's ΣM_II: five significant digits, not to the tenth of a N·m
+        (1249297.6, "1\u202f249\u202f300", "1\u202f249\u202f300"),
+        (68635.5, "68\u202f636", "68\u202f636"),
+        (9999.96, "10\u202f000", "10\u202f000"),
+        (17235.4, "17\u202f235", "17\u202f235"),  # a car engine's as before
+        (-972434.0, "−972\u202f430", "−972\u202f430"),
+    ],
+)
+def test_a_large_force_or_moment_has_five_significant_digits(value, moment, force):
+    t = translator("uk", REGISTRY.catalogs)
+    assert (newton_metres(t, value), newtons(t, value)) == (moment, force)
 
 
 def test_the_sixth_order_moment_has_the_same_digits_in_the_table_and_the_conclusions():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from markupsafe import Markup
 
 from crankdyn.plugin.types import Symbol
@@ -16,17 +18,35 @@ def circular(hodograph: dict) -> bool:
     )
 
 
+#: The most significant digits a force or moment is printed with: a large engine's are not given
+#: to the newton (ΣM_II = 1 249 300 Н·м, not 1 249 297,6).
+MOST_DIGITS = 5
+
+
+def _to_digits(t, value: float, decimals: int) -> str:
+    """``value`` to ``decimals`` decimals, or to :data:`MOST_DIGITS` significant digits where
+    that is fewer, written without an exponent (1 249 300)."""
+    if value == 0:
+        return t.fixed(value, decimals)
+    exponent = math.floor(math.log10(abs(value)))
+    if abs(round(value, MOST_DIGITS - 1 - exponent)) >= 10.0 ** (exponent + 1):
+        exponent += 1  # rounded up to the next power of ten (9999.96 to 10 000)
+    places = min(decimals, MOST_DIGITS - 1 - exponent)
+    return t.fixed(round(value, places), max(places, 0))
+
+
 def newtons(t, force_N: float) -> str:
     """A force as the table of orders and the conclusions print it: whole newtons (C = 17 235 Н),
     two significant digits under 10 N, where whole newtons would print a small unbalanced force
-    as 0 or 1 Н."""
-    return t.fixed(force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
+    as 0 or 1 Н, at most :data:`MOST_DIGITS` significant digits."""
+    return _to_digits(t, force_N, 0) if abs(force_N) >= 10 else t.number_g(force_N, 2)
 
 
 def newton_metres(t, moment_Nm: float) -> str:
     """A moment as the table of orders and the conclusions print it: to 0.1 N·m, two significant
-    digits under 1 N·m, where tenths would print a small unbalanced moment as 0,0 or 0,1."""
-    return t.fixed(moment_Nm, 1) if abs(moment_Nm) >= 1 else t.number_g(moment_Nm, 2)
+    digits under 1 N·m, where tenths would print a small unbalanced moment as 0,0 or 0,1, at most
+    :data:`MOST_DIGITS` significant digits."""
+    return _to_digits(t, moment_Nm, 1) if abs(moment_Nm) >= 1 else t.number_g(moment_Nm, 2)
 
 
 #: The amplitude a table of orders divides by, as its headers print it (the catalogs' ``{scale}``).
