@@ -1194,6 +1194,9 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
     assert "Средства уравновешивания: восемь противовесов на щёках каждого колена и два" in ru
     assert "Противовесы (центр масс на радиусе" in ru
     assert "и уравновешивающие валы (центр масс на радиусе" in ru
+    # the counterweights on every crank balance no free force here: the shafts balance ΣP_II
+    assert "; валы уравновешивают силы инерции второго порядка" in ru, ru
+    assert "; they balance" not in text(every, "en")
     internal = {"balancing": {"counterweights": "every_crank", "balance_orders": []}}
     en = text(internal, "en")
     assert "The balancing means: eight counterweights on the webs of every crank. " in en

@@ -503,6 +503,8 @@ def _means_sentence(t, r) -> str:
     what = balanced_by_means(t, r)
     if not single and not what:  # counterweights that change no free force or moment
         key = "balancing.conclusion_means_plain"
+    elif r["counterweights"] and r["balance_shafts"] and _counterweights_internal_only(r):
+        key = "balancing.conclusion_means_shafts"  # not "they": the counterweights balance none
     sentence = t(
         key,
         means=t("balancing.means_and").join(means),
