@@ -181,3 +181,29 @@ def test_the_layout_section_says_how_many_main_supports_the_shaft_has():
     text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, "ru").linked_html)
     # a count below ten in words (ГОСТ 2.105), its noun agreeing with it
     assert "Коленчатый вал имеет пять коренных опор" in text
+
+
+def test_a_straight_eights_plan_keeps_its_words_apart():
+    """Eight cranks on the sheet's width: "колено k" under every crank ran together, the free end's
+    name lay over crank 1's throw and a's text over its extension lines. Crank 1 keeps the word,
+    the others their numbers; no two words of the plan overlap."""
+    eight = {"engine": {"cylinders": 8, "firing_order": [1, 6, 2, 5, 8, 3, 7, 4]}}
+    plan = shared_run("inline4-petrol", eight).outputs["bays"].results["plan"]
+    t = _t("ru")
+    fig = plan_figure(plan, plan_texts(plan, t))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    cranks = [x.get_text().split("\n")[0] for x in ax.texts if x.get_gid() == "plan-crank"]
+    assert cranks == ["колено 1", *map(str, range(2, 9))]
+    words = [x for x in ax.texts if x.get_text().strip() and x.get_gid() != "plan-cylinder"]
+    boxes = [x.get_window_extent(renderer) for x in words]
+    for i, first in enumerate(boxes):
+        for j in range(i + 1, len(boxes)):
+            assert not first.overlaps(boxes[j]), (words[i].get_text(), words[j].get_text())
+    # and the four cranks of an in-line four each keep the word
+    four = shared_run("inline4-petrol").outputs["bays"].results["plan"]
+    fig = plan_figure(four, plan_texts(four, t))
+    fig.canvas.draw()
+    cranks = [x.get_text().split("\n")[0] for x in fig.axes[0].texts if x.get_gid() == "plan-crank"]
+    assert cranks == [f"колено {k}" for k in range(1, 5)]

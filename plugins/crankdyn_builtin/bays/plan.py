@@ -117,6 +117,15 @@ def throw_heights(lags_deg, throw: float) -> list[float]:
 #: the crank numbers' two lines (number, lag) at 8 pt, cm on the sheet
 CRANK_LABEL_CM = 0.8
 WIDTH_CM = 16.0
+#: where the free end's name ends, in units of a from crank 1: left of the first support
+FREE_END_RIGHT = -0.62
+#: the width of a character of the plan's 8-pt words on the sheet, cm (DejaVu Sans, with room)
+CHARACTER_CM = 0.19
+
+
+def _text_cm(text: str) -> float:
+    """About how wide ``text``'s longest line is at 8 pt on the sheet, cm."""
+    return CHARACTER_CM * max(len(line) for line in text.split("\n"))
 
 
 def plan_figure(data: dict, texts: PlanTexts):
@@ -132,7 +141,15 @@ def plan_figure(data: dict, texts: PlanTexts):
     lags = data.get("crank_lags_deg") or [0.0] * cranks
     heights = throw_heights(lags, throw)
     start, end = -0.5 * a - 0.45 * a, (cranks - 0.5) * a + 0.6 * a
-    xlim = (start - 1.25 * a, end + 0.35 * a)
+    # the free end's name right of the rotation's sign, left of the first support: the sign
+    # moves left as far as the name needs at the sheet's scale (which depends on where it is)
+    rotation_x = start - 0.75 * a
+    for _ in range(3):
+        xlim = (rotation_x - 0.5 * a, end + 0.35 * a)
+        units_per_cm = (xlim[1] - xlim[0]) / WIDTH_CM
+        name_left = FREE_END_RIGHT * a - _text_cm(texts.free_end) * units_per_cm
+        rotation_x = min(start - 0.75 * a, name_left - 0.5 * a)
+    xlim = (rotation_x - 0.5 * a, end + 0.35 * a)
     units_per_cm = (xlim[1] - xlim[0]) / WIDTH_CM
     # the crank numbers under the lowest throw and the supports, two lines high
     label_top = -max(0.2 * a, -min(heights) + 0.06 * a)
@@ -154,12 +171,16 @@ def plan_figure(data: dict, texts: PlanTexts):
     _supports(ax, a, cranks)
     _cylinders(ax, data, rows, bore, length if boxer else None)
     _row_names(ax, data, texts.banks, rows, bore)
-    _crank_numbers(ax, a, cranks, texts.crank, label_top, data.get("crank_lags_deg"))
-    _spacing_dimension(ax, a, heights[:2], bottom - 0.25 * a, texts.spacing)
+    # the word with crank 1 only where "crank k" would not fit between two supports
+    spaced = _text_cm(f"{texts.crank} {cranks}") < 0.8 * a / units_per_cm
+    _crank_numbers(ax, a, cranks, texts.crank, label_top, data.get("crank_lags_deg"), spaced)
+    # a's text between the extension lines where it fits, else beside the second one
+    inside = _text_cm(texts.spacing) < 0.85 * a / units_per_cm
+    _spacing_dimension(ax, a, heights[:2], bottom - 0.25 * a, texts.spacing, inside)
     if texts.offset:
         _offset_dimension(ax, data, rows, bore, texts.offset)
     _ends(ax, start, end, a, texts)
-    _rotation(ax, start - 0.75 * a, 0.0, 0.22 * a, texts.rotation)
+    _rotation(ax, rotation_x, 0.0, 0.22 * a, texts.rotation)
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
     return fig
@@ -253,16 +274,21 @@ def _row_names(ax, data, names, rows, bore) -> None:
             )
 
 
-def _crank_numbers(ax, a, cranks, word, top, lags_deg=None) -> None:
+def _crank_numbers(ax, a, cranks, word, top, lags_deg=None, spaced: bool = True) -> None:
     """The cranks' numbers from the free end, each with its lag behind crank 1 on a second line,
-    under the axis (from ``top`` down) between the supports."""
+    under the axis (from ``top`` down) between the supports; the word ("crank") with each number,
+    or, not ``spaced``, with crank 1's alone ("crank 1", "2", "3", …), which then ends at its
+    crank's plane, so that the word reaches towards the free end and not under crank 2."""
     for k in range(cranks):
         lag = f"\n({lags_deg[k]:.4g}°)" if lags_deg else ""
+        name = f"{word} {k + 1}" if spaced or k == 0 else str(k + 1)
+        leading = not spaced and k == 0
         ax.text(
-            k * a,
+            0.08 * a if leading else k * a,  # the number "1" over the plane
             top,
-            f"{word} {k + 1}{lag}".strip(),
-            ha="center",
+            f"{name}{lag}".strip(),
+            ha="right" if leading else "center",
+            multialignment="right" if leading else "center",
             va="top",
             fontsize=8,
             linespacing=1.1,
@@ -272,9 +298,10 @@ def _crank_numbers(ax, a, cranks, word, top, lags_deg=None) -> None:
         )
 
 
-def _spacing_dimension(ax, a, heights, y, text) -> None:
+def _spacing_dimension(ax, a, heights, y, text, inside: bool = True) -> None:
     """a between the planes of cranks 1 and 2: extension lines from their pins down to the
-    dimension line, its text above it (gid ``plan-spacing``: the arrow, whose ends are a apart)."""
+    dimension line, its text above it, or beside the second extension line where it is wider
+    than a (not ``inside``) (gid ``plan-spacing``: the arrow, whose ends are a apart)."""
     for x, height in zip((0.0, a), heights, strict=False):
         ax.plot([x, x], [height, y - 0.05 * a], color=DIMENSION, lw=0.5, ls=(0, (8, 2, 1, 2)))
     arrow = ax.annotate(
@@ -292,11 +319,11 @@ def _spacing_dimension(ax, a, heights, y, text) -> None:
     )
     arrow.set_gid("plan-spacing")
     ax.text(
-        0.5 * a,
-        y + 0.02 * a,
+        0.5 * a if inside else 1.08 * a,
+        y + 0.02 * a if inside else y,
         text,
-        ha="center",
-        va="bottom",
+        ha="center" if inside else "left",
+        va="bottom" if inside else "center",
         fontsize=8,
         color="0.15",
         gid="plan-spacing-text",
@@ -338,7 +365,7 @@ def _ends(ax, start, end, a, texts) -> None:
     """The free end's name left of the shaft; the take-off end: a flywheel's rim and its name."""
     from matplotlib.patches import Rectangle  # lazy: heavy optional import
 
-    ax.text(start, 0.06 * a, texts.free_end, ha="left", va="bottom", fontsize=8)
+    ax.text(FREE_END_RIGHT * a, 0.06 * a, texts.free_end, ha="right", va="bottom", fontsize=8)
     rim = 0.55 * a
     ax.add_patch(
         Rectangle(
