@@ -1315,3 +1315,27 @@ def test_a_v_engines_note_names_no_cylinder_1_it_does_not_have():
     text = " ".join(re.sub(r"<[^>]+>", " ", page).split())
     assert not re.findall(r".{40}\bcylinder 1(?![\dLR]).{20}", text)
     assert "with the first cylinder at its TDC" in text
+
+
+def test_the_masses_table_gives_a_of_every_order_analysed():
+    """A scene that asks for the eighth order gets ΣP_VIII in the tables of orders: the masses
+    table then gives A_8 too (the row without its coefficient could not be checked), three
+    significant digits where six decimals would print a few 10⁻⁷ as 0."""
+    from conftest import shared_html, shared_run
+
+    eight = {"balancing": {"include_orders": [1, 2, 4, 6, 8]}}
+    r = shared_run("inline4-petrol", eight, ("balancing",)).outputs["balancing"].results
+    page = shared_html("inline4-petrol", eight, "en", ("balancing",)).linked_html
+    table = page[page.index("Masses, amplitudes") :]
+    table = table[: table.index("</table>")]
+    assert "<i>A</i><sub>8</sub>" in table and "<i>A</i><sub>6</sub>" in table
+    a8 = r["acceleration_harmonics"]["VIII"]
+    mantissa, exponent = f"{a8:.2e}".split("e")
+    printed = f"{mantissa.replace('-', '−')}·10{str(int(exponent)).translate(SUPERSCRIPT)}"
+    assert printed in table, printed
+    plain = shared_html("inline4-petrol", None, "en", ("balancing",)).linked_html
+    plain = plain[plain.index("Masses, amplitudes") :]
+    assert "<i>A</i><sub>8</sub>" not in plain[: plain.index("</table>")]
+
+
+SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")

@@ -59,6 +59,12 @@ def bal_order(name: str) -> int:
     return {v: k for k, v in bal.ROMAN.items()}.get(name) or int(name)
 
 
+def _harmonic(t, value: float) -> str:
+    """A_ν as the masses table prints it: to six decimals, three significant digits below them
+    (A_8 of a usual λ is a few 10⁻⁷)."""
+    return t.fixed(value, 6) if abs(value) >= 5e-6 else t.number_g(value, 3)
+
+
 def _masses_table(ctx, r):
     """Masses, inertia-force amplitudes and acceleration harmonics."""
     if r.get("offset_ratio"):
@@ -67,6 +73,14 @@ def _masses_table(ctx, r):
     # articulated rods: the master cylinder's mass, with the slave rods' shares, its own letter
     master = r.get("slave_reciprocating_mass_kg") is not None
     m_s = master_mass(t, r)
+    # A_ν of every even order the section analyses (2, 4, 6 by default; 8 where the scene asks)
+    orders = [
+        o["order"]
+        for o in r["orders"]
+        if o["order"] >= 2 and bal.roman(o["order"]) in r["acceleration_harmonics"]
+    ] or [2, 4, 6]
+    numerals = [bal.roman(n) for n in orders]
+    series = r.get("acceleration_series", {})
     masses_table = ctx.table(
         [
             (
@@ -78,9 +92,7 @@ def _masses_table(ctx, r):
                         "<i>C</i> = <i>m</i><sub>R</sub><i>Rω</i><sup>2</sup>",
                         "<i>C</i><sub>I</sub> = " + m_s + "<i>Rω</i><sup>2</sup>",
                         "<i>C</i><sub>II</sub> = <i>λC</i><sub>I</sub>",
-                        "<i>A</i><sub>2</sub>",
-                        "<i>A</i><sub>4</sub>",
-                        "<i>A</i><sub>6</sub>",
+                        *(f"<i>A</i><sub>{n}</sub>" for n in orders),
                     )
                 ],
                 None,
@@ -94,9 +106,7 @@ def _masses_table(ctx, r):
                     ctx.num(r["first_order_N"]) + " " + t("balancing.unit_N"),
                     ctx.num(r["second_order_N"]) + " " + t("balancing.unit_N"),
                     # one column's decimals: six, as A_2 needs for its four digits beyond λ
-                    t.fixed(r["acceleration_harmonics"]["II"], 6),
-                    t.fixed(r["acceleration_harmonics"]["IV"], 6),
-                    t.fixed(r["acceleration_harmonics"]["VI"], 6),
+                    *(_harmonic(t, r["acceleration_harmonics"][n]) for n in numerals),
                 ],
                 None,
             ),
@@ -108,9 +118,7 @@ def _masses_table(ctx, r):
                     "",
                     "",
                     "",
-                    t.fixed(r["acceleration_series"]["II"], 6),
-                    t.fixed(r["acceleration_series"]["IV"], 6),
-                    t.fixed(r["acceleration_series"]["VI"], 6),
+                    *(_harmonic(t, series[n]) if n in series else "—" for n in numerals),
                 ],
                 None,
             ),
