@@ -307,9 +307,9 @@ def run(scene, inputs) -> StageOutput:
     alpha = np.radians(torque.crank_angle_deg)
     excess = fw.excess_work(alpha, torque.torque_Nm)
     train = crank_train(scene, bays)
-    train_mean = train.series().mean_kg_m2
     counterweights, balance_shafts, shaft_count = _balancing_inertia(inputs)
     fitted = counterweights + balance_shafts  # on the webs, geared to the shaft: constant, in J_m
+    train_mean = train.series().mean_kg_m2
     mechanism = train_mean + fitted
     shaft = opts.engine_inertia + fitted  # the constant added to the crank train's J(α)
     own = mechanism + opts.engine_inertia
@@ -359,7 +359,6 @@ def run(scene, inputs) -> StageOutput:
     )
     if train.articulated:
         notes.append(("flywheel.note_articulated", {}))
-
     if opts.rim_mean_diameter is not None and flywheel > 0 and not is_propeller(scene):
         results["rim"] = _rim(opts, flywheel, omega)
 

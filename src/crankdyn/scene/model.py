@@ -32,6 +32,7 @@ from pydantic import (
 from ..errors import MISSING, Problem, SceneError
 from ..physics import firing_explorer as fe
 from ..physics import layout as lay
+from ..physics.indicator import lost_stroke_fraction
 from ..physics.layout import nearest_steps_deg, step_on_grid_deg
 from .datafiles import data_file_problem
 from .inputcheck import TOO_CLOSE_TO_ZERO, structure_problems, table_problems, toml_float
@@ -420,8 +421,6 @@ class Cycle(_Strict):
         eps, why = self.compression_ratio, "p_a*eps^n1"
         opening = self.rounding.exhaust_opens_before_bdc_deg
         if strokes == 2 and rod_ratio is not None and 0.0 < opening:
-            from ..physics.indicator import lost_stroke_fraction  # lazy: two-strokes only
-
             psi = float(lost_stroke_fraction(opening, rod_ratio))
             eps = 1.0 + (1.0 - psi) * (eps - 1.0)
             why = (
