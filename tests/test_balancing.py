@@ -1197,6 +1197,10 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
     # the counterweights on every crank balance no free force here: the shafts balance ΣP_II
     assert "; валы уравновешивают силы инерции второго порядка" in ru, ru
     assert "; they balance" not in text(every, "en")
+    # and the section says so at the counterweights' table, after the method's general words
+    # on what counterweights cancel: there and in the conclusions
+    said = "The counterweights change none of the engine's free forces and moments"
+    assert text(every, "en").count(said) == 2
     internal = {"balancing": {"counterweights": "every_crank", "balance_orders": []}}
     en = text(internal, "en")
     assert "The balancing means: eight counterweights on the webs of every crank. " in en

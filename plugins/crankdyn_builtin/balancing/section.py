@@ -754,6 +754,8 @@ def render(output: StageOutput, ctx) -> str | None:
         bay_table=bay_table,
         summary_table=summary_table,
         means_table=means_table,
+        # counterweights the crank arrangement leaves nothing free to balance: said at their table
+        counterweights_internal=bool(r["counterweights"]) and _counterweights_internal_only(r),
         explorer_table=explorer_table,
         rank_tied=_rank_tied_with_first(r.get("explorer")),
         spacing=r["cylinder_spacing_m"],
