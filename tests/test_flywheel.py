@@ -291,14 +291,13 @@ def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_fly
     assert printed and float(printed.group(1)) == pytest.approx(r["own_inertia_kg_m2"], rel=1e-3)
     assert "&lt; 0" not in plain and "J_f is negative" not in text
     assert "A vehicle's engine carries a flywheel all the same" not in text  # no application
-    car = run(
-        "v8-petrol",
-        {
-            "engine": {"application": "automotive"},
-            "flywheel": {"required_irregularity": 0.2, "engine_inertia": "5 kg*m^2"},
-        },
-    )
-    html = render_html(car, default_registry(), "en").linked_html
+    from conftest import shared_html
+
+    car = {
+        "engine": {"application": "automotive"},
+        "flywheel": {"required_irregularity": 0.2, "engine_inertia": "5 kg*m^2"},
+    }
+    html = shared_html("v8-petrol", car, "en", ("flywheel",)).linked_html
     text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", html)).split())
     assert text.count("A vehicle's engine carries a flywheel all the same") == 2  # and concluded
 
