@@ -207,3 +207,16 @@ def test_a_straight_eights_plan_keeps_its_words_apart():
     fig.canvas.draw()
     cranks = [x.get_text().split("\n")[0] for x in fig.axes[0].texts if x.get_gid() == "plan-crank"]
     assert cranks == [f"колено {k}" for k in range(1, 5)]
+
+
+def test_an_angle_column_prints_each_angle_as_it_is():
+    """A V16 two-stroke's cranks lie at 22.5° steps: whole degrees printed them as 22, 68, 112, 158
+    (round half to even) beside the text's 22.5; a column gets the fewest decimals that print
+    every angle exactly, at most three."""
+    from crankdyn.report.context import exact_decimals
+
+    assert exact_decimals([0.0, 90.0, 270.0]) == 0
+    assert exact_decimals([0.0, 22.5, 67.5, 112.5]) == 1
+    assert exact_decimals([0.0, 8.4375]) == 3  # at most three, the nearest then
+    assert exact_decimals([53.4375, 202.5], most=1) == 1
+    assert exact_decimals([1.0 / 3.0]) == 3

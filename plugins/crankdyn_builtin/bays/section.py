@@ -12,7 +12,7 @@ from crankdyn.physics.extrema import first_argmax, first_extremum_index
 from crankdyn.plugin.contracts import ArticulatedOptions
 from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput, Symbol
-from crankdyn.report.context import add_extreme_rows, sample_rows
+from crankdyn.report.context import add_extreme_rows, exact_decimals, sample_rows
 from crankdyn.scene import options
 
 from .compute import ARTICULATED, largest_tdc_shift
@@ -38,18 +38,17 @@ def _phase_table(r: dict, ctx):
     if r["cranks"] > 1:
         columns += [
             (escape(t("bays.crank")), [str(p["crank"]) for p in phases], None),
-            (escape(t("bays.crank_lag")), [p["crank_lag_deg"] for p in phases], 0),
+            (escape(t("bays.crank_lag")), *_angles([p["crank_lag_deg"] for p in phases])),
         ]
     if any(p["axis_deg"] for p in phases):
         first = t.cylinder(phases[0]["cylinder"])  # the cylinder the delays count from
         columns.append(
-            (escape(t("bays.axis_angle", first=first)), [p["axis_deg"] for p in phases], 0)
+            (escape(t("bays.axis_angle", first=first)), *_angles([p["axis_deg"] for p in phases]))
         )
     columns.append(
         (
             escape(t("bays.cycle_delay")) + Markup(" Δ<i>α</i><sub>0<i>i</i></sub>, °"),
-            [p["cycle_delay_deg"] for p in phases],
-            0,
+            *_angles([p["cycle_delay_deg"] for p in phases]),
         )
     )
     return ctx.table(
@@ -57,6 +56,11 @@ def _phase_table(r: dict, ctx):
         caption=t(one_crank_key("bays.phases_caption", r, t)),
         see=one_crank_key("bays.see_phases", r, t),
     )
+
+
+def _angles(values: list[float]) -> tuple[list[float], int]:
+    """A column of angles and the decimals that print each as it is (a 22.5° crank, not 22)."""
+    return values, exact_decimals(values)
 
 
 def _stroke_table(r: dict, ctx):

@@ -8,7 +8,7 @@ from markupsafe import Markup
 
 from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput, Symbol
-from crankdyn.report.context import add_extreme_rows, sample_rows
+from crankdyn.report.context import add_extreme_rows, exact_decimals, sample_rows
 from crankdyn.report.typeset import journal_name
 from crankdyn_builtin.torque.worked import worked_torque
 
@@ -213,7 +213,11 @@ def _danger_table(ctx, r, cranks: int) -> str:
                 ],
                 None,
             ),
-            ("<i>α</i>, °", [v["shaft_angle_deg"] for _, _, v in danger_rows], 0),
+            (
+                "<i>α</i>, °",
+                angles := [v["shaft_angle_deg"] for _, _, v in danger_rows],
+                exact_decimals(angles, most=1),  # a grid step's angle to a tenth
+            ),
             ("<i>z</i>, " + t("unit.MPa"), [v["z_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             ("<i>t</i>, " + t("unit.MPa"), [v["t_Pa"] / 1e6 for _, _, v in danger_rows], 3),
             ("<i>q</i>, " + t("unit.MPa"), [v["q_Pa"] / 1e6 for _, _, v in danger_rows], 3),

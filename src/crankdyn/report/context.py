@@ -195,6 +195,15 @@ def inline_figures(html: str, figures: Sequence[FigureFile]) -> str:
     return html
 
 
+def exact_decimals(values: Sequence[float], most: int = 3) -> int:
+    """The fewest decimals (at most ``most``) that print every one of ``values`` as it is: 0 for
+    whole degrees, 1 for a V16 two-stroke's 22.5° (whole degrees would print it as 22)."""
+    for decimals in range(most + 1):
+        if all(abs(round(v, decimals) - v) <= 1e-9 * max(1.0, abs(v)) for v in values):
+            return decimals
+    return most
+
+
 def bound_number(sentence: str, number: str) -> str:
     """``sentence`` with the table's or figure's ``number`` bound to the word before it by a
     no-break space ("рис. 7.1", "табл. 2.1": never parted at a line's end)."""
