@@ -629,3 +629,28 @@ def test_the_irregularity_at_lower_speeds_is_that_of_the_engine_run_there():
     assert rows[0.5]["irregularity"] == pytest.approx(
         half["excess_work_J"] / (full["total_inertia_kg_m2"] * omega**2), rel=1e-9
     )
+
+
+def test_the_speed_at_which_the_irregularity_reaches_the_required_one():
+    """A pressure trace keeps its pressures at every speed: the engine run at the speed the note
+    names has δ ≥ [δ], and 1 % of the rated speed above it δ < [δ] (each run computing its
+    inertia forces afresh, with the same J); the section and the conclusions give that speed."""
+    from conftest import shared_html
+
+    fly = {"flywheel": {"inertia": "4 kg*m^2", "required_irregularity": 0.01}}
+    r = shared_run("inline6-diesel-trace", fly).outputs["flywheel"].results
+    assert r["irregularity"] < 0.01
+    reached = r["required_irregularity_reached_rpm"]
+    assert 400 < reached < 1600
+
+    def delta(rpm):
+        run = shared_run("inline6-diesel-trace", {**fly, "engine": {"rpm": rpm}})
+        return run.outputs["flywheel"].results["irregularity"]
+
+    assert delta(reached) >= 0.01 > delta(reached + 16)
+    page = shared_html("inline6-diesel-trace", fly, "en", ("flywheel",)).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
+    from crankdyn.report.i18n import translator
+
+    about = translator("en").number_g(reached, 3)  # three significant digits: "about"
+    assert f"δ would reach [δ] = 0.01 at about {about} rpm" in text

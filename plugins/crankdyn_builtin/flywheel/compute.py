@@ -198,29 +198,44 @@ def _excess_results(excess, torque) -> dict:
 LOWER_SPEED_FRACTIONS = (0.75, 0.5, 0.25)
 
 
-def lower_speeds(scene, torque, train, total_inertia_kg_m2: float) -> list[dict] | None:
+def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> dict:
     """ΔL and δ with the same cylinder pressures and the same J at :data:`LOWER_SPEED_FRACTIONS`
-    of the scene's speed (:func:`fw.excess_work_at_speed_J`); None where the loads take the rod as
-    a rigid body, whose inertia torque the two-mass J(α) does not hold."""
+    of the scene's speed (:func:`fw.excess_work_at_speed_J`), and the highest speed below the
+    scene's at which δ reaches the ``required`` one (scanned down in steps of 1 % of the speed to
+    a tenth of it; None if it does not, or none required); both None where the loads take the rod
+    as a rigid body, whose inertia torque the two-mass J(α) does not hold."""
     if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
-        return None
+        return {"lower_speeds": None, "required_irregularity_reached_rpm": None}
     omega = torque.angular_velocity_rad_s
     alpha = np.radians(torque.crank_angle_deg)
     _, derivative = train.series()(alpha)
     gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, omega)
     inertia = np.asarray(torque.torque_Nm) - gas
-    rows = []
-    for k in LOWER_SPEED_FRACTIONS:
+
+    def irregularity(k: float) -> float:
         excess = fw.excess_work_at_speed_J(alpha, gas, inertia, k)
-        rows.append(
-            {
-                "speed_fraction": k,
-                "rpm": k * scene.engine.rpm,
-                "excess_work_J": excess,
-                "irregularity": fw.cyclic_irregularity(excess, total_inertia_kg_m2, k * omega),
-            }
+        return fw.cyclic_irregularity(excess, total_inertia_kg_m2, k * omega)
+
+    rows = [
+        {
+            "speed_fraction": k,
+            "rpm": k * scene.engine.rpm,
+            "excess_work_J": fw.excess_work_at_speed_J(alpha, gas, inertia, k),
+            "irregularity": irregularity(k),
+        }
+        for k in LOWER_SPEED_FRACTIONS
+    ]
+    reached = None
+    if required is not None:
+        reached = next(
+            (
+                k / 100 * scene.engine.rpm
+                for k in range(99, 9, -1)
+                if irregularity(k / 100) >= required
+            ),
+            None,
         )
-    return rows
+    return {"lower_speeds": rows, "required_irregularity_reached_rpm": reached}
 
 
 def gas_excess_work_J(scene, torque, train) -> float | None:
@@ -345,7 +360,7 @@ def run(scene, inputs) -> StageOutput:
         **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
-        "lower_speeds": lower_speeds(scene, torque, train, total),
+        **lower_speeds(scene, torque, train, total, opts.required_irregularity),
         "flywheel_share": flywheel / total,
         # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
         "flywheel_inertia_difference_kg_m2": (

@@ -317,6 +317,16 @@ def _conclude_not_needed(ctx, r) -> None:
             if ctx.scene.engine.application in VEHICLE_APPLICATIONS
             else ""
         )
+        + (
+            " "
+            + t(
+                "flywheel.conclusion_lower_speeds_reached",
+                required=t.number_g(r["required_irregularity"], 6),
+                rpm=t.number_g(r["required_irregularity_reached_rpm"], 3),
+            )
+            if r.get("required_irregularity_reached_rpm")
+            else ""
+        )
     )
 
 
