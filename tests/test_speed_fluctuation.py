@@ -275,3 +275,24 @@ def test_the_extreme_speeds_print_apart():
     assert speed_digits(272.33, 272.20) == 5
     assert speed_digits(681.9, 679.3) == 4
     assert speed_digits(100.0, 100.0) == 4  # no swing: the usual digits
+
+
+def test_a_constant_reduced_inertia_is_drawn_with_ticks_apart():
+    """An even-firing V16's J(α) is constant but for rounding (3·10⁻¹² kg·m²): its axis printed
+    40.727096 at every tick; a flat J gets limits ±2 % about it and ticks of distinct values."""
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.speed_fluctuation.figures import _speed_plot
+
+    angle = np.arange(0.0, 360.0, 1.0)
+    f = {
+        "crank_angle_deg": angle,
+        "omega_rad_s": 94.0 + 0.05 * np.sin(np.radians(16 * angle)),
+        "omega_energy_method_rad_s": 94.0 + 0.05 * np.sin(np.radians(16 * angle)),
+        "inertia_kg_m2": 40.727096 + 3e-12 * np.sin(np.radians(angle)),
+    }
+    fig = _speed_plot(f, None, 360.0, translator("en"))
+    fig.canvas.draw()
+    low, high = fig.axes[1].get_ylim()
+    assert low == pytest.approx(0.98 * 40.727096) and high == pytest.approx(1.02 * 40.727096)
+    ticks = [tick.get_text() for tick in fig.axes[1].get_yticklabels() if tick.get_text()]
+    assert len(ticks) >= 2 and len(set(ticks)) == len(ticks), ticks

@@ -102,7 +102,11 @@ def _speed_plot(f, method, cycle_deg, t):
     )
     axes[0].set_ylabel(t("speed_fluctuation.axis_omega"))
     axes[0].legend(loc="upper right", fontsize=8)
-    axes[1].plot(angle, f["inertia_kg_m2"], color="C4")
+    inertia = np.asarray(f["inertia_kg_m2"], dtype=float)
+    axes[1].plot(angle, inertia, color="C4")
+    mean = float(inertia.mean())
+    if np.ptp(inertia) <= 1e-6 * abs(mean):  # an even V16's: constant but for rounding
+        axes[1].set_ylim(0.98 * mean, 1.02 * mean)  # ticks apart, not one value over and over
     axes[1].set_ylabel(t("speed_fluctuation.axis_inertia"))
     crank_angle_axis(axes[1], cycle_deg, t("axis.crank_angle"))
     return fig
