@@ -303,3 +303,26 @@ def test_a_two_strokes_peak_pressure_is_checked_against_its_actual_compression(
             assert f"p_c = {bound / 1e6:.3g} MPa" in err, err
             assert ("eps_d" in err) == (strokes == 2), err
             _no_traceback(err)
+
+
+def test_a_v_engines_refused_firing_order_is_told_how_its_banks_are_lettered(
+    tmp_path: Path, capsys
+):
+    """A 90° V6 on three pins at 120° fires its pins' L cylinders first: "1R, 1L, …" does not fit,
+    and the refusal says which bank a crank reaches first."""
+    engine = {
+        "layout": "V",
+        "bank_angle_deg": 90,
+        "cylinders": 6,
+        "crank_angles_deg": [0, 240, 120],
+        "uneven_firing": True,
+        "firing_order": ["1R", "1L", "2R", "2L", "3R", "3L"],
+    }
+    path = write_scene(tmp_path / "v6.toml", modified("kinematics-only", {"engine": engine}))
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "does not fit the crank arrangement" in err
+    assert "a crank reaches bank L's axis first and bank R's the bank angle later" in err
+    fixed = {**engine, "firing_order": ["1L", "1R", "2L", "2R", "3L", "3R"]}
+    path = write_scene(tmp_path / "v6.toml", modified("kinematics-only", {"engine": fixed}))
+    assert main(["check", str(path)]) == 0

@@ -27,6 +27,12 @@ import numpy as np
 
 LAYOUT_BANKS = {"inline": 1, "V": 2, "boxer": 2, "W": 3, "Y": 3, "X": 4}
 BANK_LETTERS = {1: ("",), 2: ("L", "R"), 3: ("L", "C", "R"), 4: ("A", "B", "C", "D")}
+#: What a refused order of a V, W or X engine is told about its banks' letters.
+BANK_ORDER_HINT = (
+    "; the banks are lettered in the direction of rotation (clockwise, seen from the free end): "
+    "a crank reaches bank L's axis first and bank R's the bank angle later, so of two cylinders "
+    "on one pin the L one fires first by the bank angle (or by it plus 360 deg)"
+)
 _TOL = 1e-6
 
 
@@ -397,11 +403,12 @@ def _crank_firing_delays(
         or _angle_distance(closing % 360.0, (geometric[order[0]] - geometric[order[-1]]) % 360.0)
         > _TOL
     ):
+        banked = any(str(label)[-1:].isalpha() for label in firing_order)
         raise LayoutError(
             "engine.firing_order",
             firing_order,
             f"this firing order does not fit the crank arrangement {crank_angles_deg} within one "
-            f"{cycle:g}-deg cycle",
+            f"{cycle:g}-deg cycle" + (BANK_ORDER_HINT if banked else ""),
         )
     return delay
 
