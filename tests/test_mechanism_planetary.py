@@ -403,7 +403,7 @@ def test_kinematics_only_note_lists_what_it_uses_and_repeats_every_turn(planetar
     assert "<i>R</i> = <i>S</i>/2" not in given and "<i>λ</i> = <i>R</i>/<i>L</i>" not in given
     for absent in ("Маса шатунної шийки", "Тиск у картері"):
         assert absent not in given
-    assert "Маса поршневого комплекту" in given
+    assert "Маса поршневої групи" in given
     # the rod dynamics' table runs over the motion's one turn, not the four-stroke cycle
     rod = planetary_run.outputs["rod_dynamics"].results
     assert rod["period_deg"] == 360.0
