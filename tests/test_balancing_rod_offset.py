@@ -289,3 +289,15 @@ def test_the_plan_says_where_the_banks_offset_comes_from():
     )
     typical = shared_run("v8-petrol", stages=["bays"]).outputs["bays"].results["plan"]
     assert typical["rod_offset_source"] == "typical"
+
+
+def test_fork_and_blade_rods_are_said_to_make_no_couple():
+    """Fork-and-blade rods of a V work in one plane: the section says so (no offset, no couple),
+    where side-by-side rods get their couples; an in-line engine's rods say nothing of it."""
+    fork = {"engine": {"rod_type": "fork"}}
+    r = shared_run("v8-petrol", fork, stages=["balancing"]).outputs["balancing"].results
+    assert r["rod_offset_couples"] is None
+    html = shared_html("v8-petrol", fork, "en", ("balancing",)).linked_html
+    said = "The fork-and-blade rods of a crank pin work in one plane"
+    assert said in html
+    assert said not in shared_html("v8-petrol", None, "en", ("balancing",)).linked_html

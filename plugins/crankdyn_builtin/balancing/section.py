@@ -225,7 +225,12 @@ def part_items(t, parts) -> list[str]:
 
 
 def _rod_offset_sentence(t, r) -> str:
-    """The section's paragraph on the couples of rods side by side on one crank pin, or ""."""
+    """The section's paragraph on the couples of rods side by side on one crank pin, or "";
+    fork-and-blade rods, which work in one plane, are said to make none."""
+    if r.get("rod_type") == "fork" and len(set(r.get("cylinder_bays", []))) < len(
+        r.get("cylinder_labels", [])
+    ):
+        return t("balancing.rod_offset_fork")
     items = rod_offset_items(t, r)
     if not items:
         return ""
