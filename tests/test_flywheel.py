@@ -611,6 +611,9 @@ def test_excess_work_at_another_speed_scales_the_inertia_torque_alone():
     gas, inertia = 50.0 + 100.0 * np.sin(2 * alpha), -300.0 * np.sin(2 * alpha)
     at = [fw.excess_work_at_speed_J(alpha, gas, inertia, k) for k in (1.0, 0.5, 3**-0.5)]
     assert at == pytest.approx([200.0, 25.0, 0.0], abs=0.01)  # the trapezoid's error
+    # all the speeds at once: the same, each by excess_work's own trapezoid
+    together = fw.excess_work_at_speed_J(alpha, gas, inertia, [1.0, 0.5, 3**-0.5])
+    assert together == pytest.approx(at, abs=1e-9)
 
 
 def test_the_irregularity_at_lower_speeds_is_that_of_the_engine_run_there():

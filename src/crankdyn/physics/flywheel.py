@@ -130,35 +130,44 @@ def cyclic_irregularity(excess_work_J, inertia_kg_m2, angular_velocity_rad_s):
 
 
 def excess_work_at_speed_J(crank_angle_rad, gas_torque_Nm, inertia_torque_Nm, speed_fraction):
-    r"""Excess work at another speed with the same cylinder pressures.
+    r"""Excess work at other speeds with the same cylinder pressures.
 
     .. math:: M(\alpha) = M_g(\alpha) + k^2 M_j(\alpha), \qquad \Delta L = \max W - \min W
 
     The reciprocating masses' inertia torque :math:`M_j = -\tfrac12 J'(\alpha)\,\omega^2`
     scales with the square of the speed (:math:`k = \omega/\omega_n`), the gas torque
     :math:`M_g` stays as it is: the same cylinder pressures at the lower speed, which a real
-    engine's change with its load and filling.
+    engine's change with its load and filling. W as :func:`excess_work` integrates it.
 
     Parameters
     ----------
-    crank_angle_rad : array_like
+    crank_angle_rad : array_like, shape (N,)
         Uniform crank-angle grid over one cycle [rad].
-    gas_torque_Nm : array_like
+    gas_torque_Nm : array_like, shape (N,)
         Torque of the gas forces alone on that grid [N m].
-    inertia_torque_Nm : array_like
+    inertia_torque_Nm : array_like, shape (N,)
         Inertia torque of the reciprocating masses at the reference speed :math:`\omega_n` [N m].
-    speed_fraction : float
+    speed_fraction : float or array_like, shape (K,)
         :math:`k = \omega/\omega_n` [-].
 
     Returns
     -------
-    float
-        :math:`\Delta L` at :math:`k\,\omega_n` [J] (:func:`excess_work`).
+    float or numpy.ndarray, shape (K,)
+        :math:`\Delta L` at each :math:`k\,\omega_n` [J].
     """
-    torque = np.asarray(gas_torque_Nm, dtype=float) + speed_fraction**2 * np.asarray(
-        inertia_torque_Nm, dtype=float
+    k = np.asarray(speed_fraction, dtype=float)
+    angle = np.asarray(crank_angle_rad, dtype=float)
+    torque = np.asarray(gas_torque_Nm, dtype=float) + np.multiply.outer(
+        k**2, np.asarray(inertia_torque_Nm, dtype=float)
     )
-    return excess_work(crank_angle_rad, torque).excess_work_J
+    if k.ndim == 0:
+        return excess_work(angle, torque).excess_work_J
+    # excess_work's trapezoid, row by row: one cumulative sum for every speed
+    excess = torque - torque.mean(axis=1, keepdims=True)
+    step = float(np.mean(np.diff(angle)))
+    cumulative = np.cumsum(0.5 * (excess[:, :-1] + excess[:, 1:]) * step, axis=1)
+    cumulative = np.concatenate([np.zeros((len(k), 1)), cumulative], axis=1)
+    return cumulative.max(axis=1) - cumulative.min(axis=1)
 
 
 def required_inertia_kg_m2(excess_work_J, irregularity, angular_velocity_rad_s):
