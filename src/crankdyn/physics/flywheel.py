@@ -129,6 +129,10 @@ def cyclic_irregularity(excess_work_J, inertia_kg_m2, angular_velocity_rad_s):
     return excess_work_J / (inertia_kg_m2 * angular_velocity_rad_s**2)
 
 
+#: Elements of one block of :func:`excess_work_at_speed_J` (8 MiB of floats).
+_BLOCK_ELEMENTS = 1 << 20
+
+
 def excess_work_at_speed_J(crank_angle_rad, gas_torque_Nm, inertia_torque_Nm, speed_fraction):
     r"""Excess work at other speeds with the same cylinder pressures.
 
@@ -157,17 +161,24 @@ def excess_work_at_speed_J(crank_angle_rad, gas_torque_Nm, inertia_torque_Nm, sp
     """
     k = np.asarray(speed_fraction, dtype=float)
     angle = np.asarray(crank_angle_rad, dtype=float)
-    torque = np.asarray(gas_torque_Nm, dtype=float) + np.multiply.outer(
-        k**2, np.asarray(inertia_torque_Nm, dtype=float)
-    )
+    gas = np.asarray(gas_torque_Nm, dtype=float)
+    inertia = np.asarray(inertia_torque_Nm, dtype=float)
     if k.ndim == 0:
-        return excess_work(angle, torque).excess_work_J
-    # excess_work's trapezoid, row by row: one cumulative sum for every speed
-    excess = torque - torque.mean(axis=1, keepdims=True)
+        return excess_work(angle, gas + k**2 * inertia).excess_work_J
+    # excess_work's trapezoid, row by row: one cumulative sum for a block of speeds, the blocks
+    # bounded (a 0.01° grid has 72 000 angles)
     step = float(np.mean(np.diff(angle)))
-    cumulative = np.cumsum(0.5 * (excess[:, :-1] + excess[:, 1:]) * step, axis=1)
-    cumulative = np.concatenate([np.zeros((len(k), 1)), cumulative], axis=1)
-    return cumulative.max(axis=1) - cumulative.min(axis=1)
+    rows = max(1, _BLOCK_ELEMENTS // max(gas.size, 1))
+    out = np.empty(k.shape)
+    for start in range(0, k.size, rows):
+        torque = gas + np.multiply.outer(k[start : start + rows] ** 2, inertia)
+        excess = torque - torque.mean(axis=1, keepdims=True)
+        cumulative = np.cumsum(0.5 * (excess[:, :-1] + excess[:, 1:]) * step, axis=1)
+        # W starts at 0: the extremes with it
+        top = np.maximum(cumulative.max(axis=1), 0.0)
+        bottom = np.minimum(cumulative.min(axis=1), 0.0)
+        out[start : start + rows] = top - bottom
+    return out
 
 
 def required_inertia_kg_m2(excess_work_J, irregularity, angular_velocity_rad_s):
