@@ -103,6 +103,8 @@ def test_arrays_of_their_items_are_typed_without_their_length():
     assert wrapped.new("hb_codepoint_t[4]", [1, 2, 3]) == ("hb_codepoint_t[4]", [1, 2, 3])
     assert wrapped.new("hb_tag_t[100]") == ("hb_tag_t[100]", None)
     assert wrapped.new("unsigned int *", 100) == ("unsigned int *", 100)
+    assert wrapped.new("char[4]", b"abcd") == ("char[]", b"abcd")
+    assert wrapped.new("int[4]", 0) == ("int[4]", 0)  # not a list of items: as asked
     assert wrapped.cast == "the ffi's own"
 
 

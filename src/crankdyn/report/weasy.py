@@ -90,7 +90,8 @@ class _ArraysOfTheirItems:
 
     def new(self, cdecl, init=None):
         sized = _SIZED_ARRAY.fullmatch(cdecl) if isinstance(cdecl, str) else None
-        if sized is not None and init is not None and len(init) == int(sized.group(2)):
+        items = isinstance(init, (list, tuple, bytes))  # an array's own items, countable
+        if sized is not None and items and len(init) == int(sized.group(2)):
             cdecl = sized.group(1) + "[]"
         return self._ffi.new(cdecl, init)
 
