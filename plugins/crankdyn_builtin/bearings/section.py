@@ -76,7 +76,7 @@ def render(output: StageOutput, ctx) -> str | None:
         application=ctx.scene.engine.application if ctx.scene is not None else None,
         other_applications=OTHER_APPLICATIONS,
         rolling=_rolling_supports(ctx.scene),
-        rolling_loads=_rolling_loads(ctx, r),
+        rolling_loads=_rolling_loads(ctx, r) if _rolling_supports(ctx.scene) else {},
         centrifugal=None if loaded is None else _centrifugal_params(ctx, r, loaded),
         pressure_within=_pressure_within(ctx, r),
         main_pressure=_main_pressure(ctx, r),
