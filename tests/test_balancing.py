@@ -1326,7 +1326,7 @@ def test_a_v_engines_note_names_no_cylinder_1_it_does_not_have():
 
 def test_the_masses_table_gives_a_of_every_order_analysed():
     """A scene that asks for the eighth order gets ΣP_VIII in the tables of orders: the masses
-    table then gives A_8 too (the row without its coefficient could not be checked), three
+    table then gives A_8 too (a row without its coefficient cannot be checked), three
     significant digits where six decimals would print a few 10⁻⁷ as 0."""
     from conftest import shared_html, shared_run
 

@@ -26,7 +26,7 @@ def test_a_moment_is_printed_to_a_tenth_or_with_two_significant_digits_under_one
         (1249297.6, "1\u202f249\u202f300", "1\u202f249\u202f300"),
         (68635.5, "68\u202f636", "68\u202f636"),
         (9999.96, "10\u202f000", "10\u202f000"),
-        (17235.4, "17\u202f235", "17\u202f235"),  # a car engine's as before
+        (17235.4, "17\u202f235", "17\u202f235"),  # a car engine's: whole newtons
         (-972434.0, "−972\u202f430", "−972\u202f430"),
     ],
 )

@@ -220,8 +220,8 @@ def test_another_stage_may_ask_for_a_finer_step_and_the_finest_wins():
 
 
 def test_a_short_firing_interval_gets_seventy_two_steps_and_its_excess_work_holds():
-    """A two-stroke V16 fires every 22.5°: at the 0.9375° its grid allows next to 1° the excess
-    work lost 1.1 % against a fine grid (24 steps an interval). The default step gives the mean
+    """A two-stroke V16 fires every 22.5°: at 0.9375°, the step its grid allows next to 1°, the
+    excess work loses about 1 % against a fine grid (24 steps an interval). The default step gives the mean
     firing interval 72 steps at least, and ΔL is then within 0.2 % of its value at a quarter of
     that step (the error falls as the step squared); engines with 90° and longer intervals keep
     1°."""
@@ -250,7 +250,7 @@ def test_a_short_firing_interval_gets_seventy_two_steps_and_its_excess_work_hold
 
     fine = excess(22.5 / 288)
     assert excess(22.5 / 72) == pytest.approx(fine, rel=2e-3)
-    assert abs(excess(22.5 / 24) / fine - 1) > 5e-3  # the old default's grid, for contrast
+    assert abs(excess(22.5 / 24) / fine - 1) > 5e-3  # 24 steps an interval, for contrast
     for name in ("inline4-petrol", "v8-petrol", "radial9-aircraft"):
         plain = modified(name, {})
         plain.get("analysis", {}).pop("angle_step_deg", None)

@@ -184,9 +184,9 @@ def test_the_layout_section_says_how_many_main_supports_the_shaft_has():
 
 
 def test_a_straight_eights_plan_keeps_its_words_apart():
-    """Eight cranks on the sheet's width: "колено k" under every crank ran together, the free end's
-    name lay over crank 1's throw and a's text over its extension lines. Crank 1 keeps the word,
-    the others their numbers; no two words of the plan overlap."""
+    """Eight cranks on the sheet's width leave no room for "колено k" under every crank, for the
+    free end's name beside crank 1's throw or for a's text between its extension lines: crank 1
+    keeps the word, the others their numbers, and no two words of the plan overlap."""
     eight = {"engine": {"cylinders": 8, "firing_order": [1, 6, 2, 5, 8, 3, 7, 4]}}
     plan = shared_run("inline4-petrol", eight).outputs["bays"].results["plan"]
     t = _t("ru")
@@ -210,8 +210,8 @@ def test_a_straight_eights_plan_keeps_its_words_apart():
 
 
 def test_an_angle_column_prints_each_angle_as_it_is():
-    """A V16 two-stroke's cranks lie at 22.5° steps: whole degrees printed them as 22, 68, 112, 158
-    (round half to even) beside the text's 22.5; a column gets the fewest decimals that print
+    """A V16 two-stroke's cranks lie at 22.5° steps: whole degrees would print them as 22, 68, 112,
+    158 (round half to even) beside the text's 22.5; a column gets the fewest decimals that print
     every angle exactly, at most three."""
     from crankdyn.report.context import exact_decimals
 

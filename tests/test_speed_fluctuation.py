@@ -278,8 +278,9 @@ def test_the_extreme_speeds_print_apart():
 
 
 def test_a_constant_reduced_inertia_is_drawn_with_ticks_apart():
-    """An even-firing V16's J(α) is constant but for rounding (3·10⁻¹² kg·m²): its axis printed
-    40.727096 at every tick; a flat J gets limits ±2 % about it and ticks of distinct values."""
+    """An even-firing V16's J(α) is constant but for rounding (3·10⁻¹² kg·m²): drawn to its
+    own limits its axis would print 40.727096 at every tick; a flat J gets limits ±2 % about it
+    and ticks of distinct values."""
     from crankdyn.report.i18n import translator
     from crankdyn_builtin.speed_fluctuation.figures import _speed_plot
 

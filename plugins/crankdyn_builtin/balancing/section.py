@@ -583,8 +583,8 @@ def balanced_by_means(t, r) -> str:
 
 def balanced_by_scheme(t, r) -> str:
     """What the crank arrangement balances by itself, every order analysed (a list of the means'
-    orders alone read as the whole: a V6's ΣP_II, balanced by its cranks, was left out where the
-    means take the first order), in words with the symbols; "" where it balances none."""
+    orders alone would read as the whole: a V6 whose means take the first order also has its
+    ΣP_II balanced by its cranks), in words with the symbols; "" where it balances none."""
     orders = {s["order"] for s in r["summary"]}
     plane = one_plane(r)  # cylinders in one plane across the shaft: no moments to speak of
     offset = {x["order"] for x in offset_couples(r)}  # moments the rods' offset leaves

@@ -36,9 +36,8 @@ ONE_DEGREE_TOLERANCE = 1e-3
 
 
 #: The steps a firing interval takes at least: the excess work ΔL is read off the torque's
-#: cumulative integral over one interval, and a V16 two-stroke's 22.5° interval at the 0.94° its
-#: grid allows next to 1° lost 1.1 % of ΔL (24 steps), 0.13 % at 72 steps; a V8's 90° interval
-#: takes 90 steps at 1°.
+#: cumulative integral over one interval, and a V16 two-stroke's 22.5° interval loses 1.1 % of
+#: ΔL at 0.94° (24 steps), 0.13 % at 72 steps; a V8's 90° interval takes 90 steps at 1°.
 STEPS_PER_FIRING_INTERVAL = 72
 
 
