@@ -202,8 +202,9 @@ def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> 
     """ΔL and δ with the same cylinder pressures and the same J at :data:`LOWER_SPEED_FRACTIONS`
     of the scene's speed (:func:`fw.excess_work_at_speed_J`), and the highest speed below the
     scene's at which δ reaches the ``required`` one (scanned down in steps of 1 % of the speed to
-    a tenth of it; None if it does not, or none required); both None where the loads take the rod
-    as a rigid body, whose inertia torque the two-mass J(α) does not hold."""
+    a tenth of it, to three significant digits; None if it does not, if δ meets [δ] at the given
+    speed only just, or none is required); both None where the loads take the rod as a rigid
+    body, whose inertia torque the two-mass J(α) does not hold."""
     if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
         return {"lower_speeds": None, "required_irregularity_reached_rpm": None}
     omega = torque.angular_velocity_rad_s
@@ -227,10 +228,14 @@ def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> 
         for i, k in enumerate(LOWER_SPEED_FRACTIONS)
     ]
     reached = None
-    if required is not None:
+    # where δ at the given speed is clearly below [δ] (the engine's own inertia or a given
+    # flywheel; a designed one meets [δ] there, and any lower speed exceeds it)
+    rated = fw.excess_work_at_speed_J(alpha, gas, inertia, 1.0) / (total_inertia_kg_m2 * omega**2)
+    if required is not None and rated < 0.99 * required:
         scan = np.flatnonzero(deltas[count:] >= required)
         if scan.size:
-            reached = float(fractions[count + scan[0]] * scene.engine.rpm)
+            # three significant digits: the scan's own step is 1 % of the speed
+            reached = float(f"{fractions[count + scan[0]] * scene.engine.rpm:.3g}")
     return {"lower_speeds": rows, "required_irregularity_reached_rpm": reached}
 
 
