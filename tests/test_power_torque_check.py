@@ -5,6 +5,7 @@ by exactly 9555/(30000/π) − 1: the only deviation when the torque is right, a
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
@@ -126,3 +127,21 @@ def test_each_main_journals_torque_range_and_amplitude():
         "коефіцієнт нерівномірності крутного моменту <i>μ</i>" in html
         or "коефіцієнт нерівномірності крутного моменту μ" in html
     )
+
+
+def test_the_worked_sum_says_where_its_angles_lie_between_the_forces_tables_rows():
+    """A V8 fires every 90°: with the tables every 60° the worked row at 60° puts cylinders at
+    angles between the forces table's rows (−30° + 720°), which the note says are computed as
+    the rows are, not read off the table; every 30° they are the table's own rows."""
+    from conftest import shared_html
+
+    def note(step):
+        page = shared_html("v8-petrol", {"analysis": {"table_step_deg": step}}, "en").linked_html
+        return " ".join(re.sub(r"<[^>]+>", " ", page).split())
+
+    between = note(60)
+    assert "at these angles is computed as the rows of the forces table of section" in between
+    assert "(that table gives every 60°, and some of these angles lie between its rows)" in between
+    rows = note(30)
+    assert "is taken from the forces table of section" in rows
+    assert "lie between its rows" not in rows

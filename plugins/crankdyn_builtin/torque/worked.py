@@ -79,7 +79,15 @@ def worked_torque(ctx, f, rows, labels, cranks: int, delays: Sequence[dict] = ()
     articulated = engine.rod_type == "articulated"
     key = "torque.worked_own_angles" + ("_articulated" if articulated else "")
     key += "_one" if articulated and cranks == 1 else ""
-    note = t(key, angles=own) if own else ""
+    # an angle between the forces table's rows (a V16 two-stroke's 7.5°, 52.5°): computed as
+    # that table's rows are, not read off it
+    step = ctx.table_step_deg
+    between = any(
+        abs(a / step - round(a / step)) > 1e-9
+        for a in ((alpha - d["cycle_delay_deg"]) % ctx.cycle_deg for d in delays)
+    )
+    key += "_between" if between and not articulated else ""
+    note = t(key, angles=own, step=t.number_g(step, 4)) if own else ""
     return worked_markup(ctx, WorkedBlock("torque", ctx.last_table_number, alpha, steps, note=note))
 
 
