@@ -283,3 +283,24 @@ def test_work_rejects_bad_grids():
     assert frc.indicated_work_from_torque_J(alpha, np.full(10, 3.0)) == pytest.approx(
         3.0 * 4.0 * np.pi
     )
+
+
+def test_a_positive_side_force_presses_the_wall_the_crank_pin_leaves_after_tdc():
+    """The note's sign rule for N: positive when it presses the piston against the wall the crank
+    pin moves away from after TDC. At α = 30° the pin stands to that wall's far side
+    (x = R sin α > 0, the cylinder axis at x = 0); the rod, compressed by p₁ > 0, pushes the
+    piston along itself from the pin, so towards −x, onto that wall: and n = p₁ tan β > 0."""
+    import math
+
+    from crankdyn.physics.forces import rod_force_components
+    from crankdyn.physics.kinematics import rod_angle_rad
+
+    radius, rod_ratio, alpha = 0.05, 0.25, math.radians(30.0)
+    pin_x, pin_y = radius * math.sin(alpha), radius * math.cos(alpha)
+    piston_y = pin_y + math.sqrt((radius / rod_ratio) ** 2 - pin_x**2)
+    push_x = 0.0 - pin_x  # from the pin towards the piston pin, along the compressed rod
+    assert push_x < 0 and piston_y > pin_y
+    beta = rod_angle_rad(alpha, rod_ratio)
+    side = rod_force_components(2.0e6, alpha, beta).side_Pa
+    assert side > 0
+    assert side == pytest.approx(2.0e6 * abs(push_x) / (piston_y - pin_y), rel=1e-12)
