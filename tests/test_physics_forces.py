@@ -304,3 +304,39 @@ def test_a_positive_side_force_presses_the_wall_the_crank_pin_leaves_after_tdc()
     side = rod_force_components(2.0e6, alpha, beta).side_Pa
     assert side > 0
     assert side == pytest.approx(2.0e6 * abs(push_x) / (piston_y - pin_y), rel=1e-12)
+
+
+def test_an_offset_mechanisms_side_force_is_set_beside_the_central_ones():
+    """The forces section of an offset crank-slider gives the power stroke's side force against
+    the central mechanism's at the same axial force p₁: recomputed here from the forces table's
+    p₁ and both rod angles (the offset's from its own geometry: sin β = (R sin φ − e)/L)."""
+    import math
+    import re
+
+    import numpy as np
+    from conftest import shared_html, shared_run
+
+    run = shared_run("offset-crank-engine")
+    r = run.outputs["forces"].results
+    f = run.outputs["forces"].tables.arrays("forces")
+    motion = run.outputs["offset_crank"].data["kinematics"]
+    lam, tdc = motion.extra["rod_ratio"], motion.extra["crank_angle_at_tdc_rad"]
+    e_over_l = motion.extra["offset_m"] / (motion.crank_radius_m / lam)
+    alpha = np.radians(f["crank_angle_deg"])
+    offset_beta = np.arcsin(lam * np.sin(alpha + tdc) - e_over_l)
+    central_beta = np.arcsin(lam * np.sin(alpha))
+    p1 = f["total_Pa"]
+    assert np.allclose(f["side_Pa"], p1 * np.tan(offset_beta), atol=1e-6 * np.abs(p1).max())
+    bdc = motion.extra["bdc_crank_angle_deg"]
+    firing = 360.0 if run.scene.engine.strokes == 4 else 0.0
+    power = (f["crank_angle_deg"] >= firing) & (f["crank_angle_deg"] <= firing + bdc)
+    expected = (p1 * np.tan(central_beta))[power].max()
+    assert r["side_power_stroke_central_max_Pa"] == pytest.approx(expected, rel=1e-9)
+    assert r["side_power_stroke_max_Pa"] == pytest.approx(f["side_Pa"][power].max(), rel=1e-9)
+    assert not math.isclose(r["side_power_stroke_max_Pa"], expected, rel_tol=1e-3)
+    text = " ".join(
+        re.sub(r"<[^>]+>", " ", shared_html("offset-crank-engine", None, "en").linked_html).split()
+    )
+    mpa = f"{r['side_power_stroke_max_Pa'] / 1e6:.3f}"
+    assert f"With the offset the side force of the power stroke reaches {mpa} MPa" in text
+    assert "The offset changes the largest side force of the power stroke to" in text

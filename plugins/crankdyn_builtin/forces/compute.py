@@ -117,6 +117,30 @@ def _offset_remainder(motion, curves: dict, reciprocating: float, area: float) -
     }
 
 
+def _offset_side_force(motion, curves: dict, strokes: int) -> dict:
+    """An offset crank-slider's side force against the central one's with the same axial force
+    p₁ (the central mechanism's rod angle, sin β = λ sin α, at the same angle from TDC), Pa:
+    its largest on the power stroke (from the firing TDC to the BDC after it; positive, on the
+    thrust side, as the sign rule has it) and its largest magnitude on the other strokes."""
+    offset = motion.extra.get("offset_m", 0.0)
+    if not offset or motion.rod_angle_rad is None:
+        return {}
+    alpha = np.asarray(motion.crank_angle_rad, dtype=float)
+    total = np.asarray(curves["total_Pa"], dtype=float)
+    side = total * np.tan(np.asarray(motion.rod_angle_rad, dtype=float))
+    central = total * np.tan(np.arcsin(motion.extra["rod_ratio"] * np.sin(alpha)))
+    firing = 360.0 if strokes == 4 else 0.0  # the cycle starts at the intake TDC (four-stroke)
+    bdc = float(motion.extra.get("bdc_crank_angle_deg", 180.0))
+    angle = np.degrees(alpha)
+    power = (angle >= firing) & (angle <= firing + bdc)
+    return {
+        "side_power_stroke_max_Pa": float(side[power].max()),
+        "side_power_stroke_central_max_Pa": float(central[power].max()),
+        "side_other_strokes_max_abs_Pa": float(np.abs(side[~power]).max()),
+        "side_other_strokes_central_max_abs_Pa": float(np.abs(central[~power]).max()),
+    }
+
+
 def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
     """A single cylinder's N_e against its N_i (η_m, M_e), when the scene gives N_e; an engine of
     more cylinders has them in the torque section."""
@@ -360,6 +384,7 @@ def _forces_results(engine, motion, gas, curves: dict, masses, area: float, torq
     }
     results.update(_effective(engine, mean_from_work))
     results.update(_offset_remainder(motion, curves, reciprocating, area))
+    results.update(_offset_side_force(motion, curves, engine.strokes))
     return results
 
 

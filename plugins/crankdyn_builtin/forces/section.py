@@ -75,6 +75,7 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/forces.html.j2",
         r=r,
+        side_offset=side_offset_params(ctx, r) if "side_power_stroke_max_Pa" in r else {},
         table_b1=table_b1,
         table_q=table_q,
         figure_forces=figure_forces,
@@ -201,6 +202,21 @@ def _conclude(ctx, f, r, whose: str) -> None:
             n_angle=ctx.angle_text(float(f["crank_angle_deg"][first_argmax(np.abs(f["side_Pa"]))])),
         )
     )
+    if "side_power_stroke_max_Pa" in r:  # an offset crank-slider: what its offset is for
+        ctx.conclude(t("forces.conclusion_side_offset", **side_offset_params(ctx, r)))
+
+
+def side_offset_params(ctx, r) -> dict:
+    """An offset crank-slider's side forces against the central mechanism's, MPa, as printed."""
+    return {
+        key: ctx.num(r[f"side_{name}_Pa"] / 1e6, 3)
+        for key, name in (
+            ("power", "power_stroke_max"),
+            ("power_central", "power_stroke_central_max"),
+            ("other", "other_strokes_max_abs"),
+            ("other_central", "other_strokes_central_max_abs"),
+        )
+    }
 
 
 def _worked(ctx, rows, labels, r):
