@@ -301,3 +301,30 @@ def test_fork_and_blade_rods_are_said_to_make_no_couple():
     said = "The fork-and-blade rods of a crank pin work in one plane"
     assert said in html
     assert said not in shared_html("v8-petrol", None, "en", ("balancing",)).linked_html
+
+
+def test_an_offset_engines_second_order_vectors_stand_at_twice_its_cranks_angle():
+    """A fictitious vector of the second order stands at twice its crank's angle from the
+    cylinder axis: an offset crank-slider's crank is φ₀ off the axis at TDC, so its
+    C_II vector stands at 2φ₀ (not on the axis), as its first-order one at φ₀."""
+    import math
+
+    from crankdyn_builtin.balancing.figures import _star_drawing
+
+    r = shared_run("offset-crank-engine", stages=["balancing"]).outputs["balancing"].results
+    tdc = r["crank_directions_deg"][0]
+    assert 1.0 < abs(tdc) < 20.0
+    fig = _star_drawing(
+        ("I", "II"),
+        [str(k + 1) for k in range(len(r["cylinder_labels"]))],
+        r["crank_directions_deg"],
+        r["cylinder_phases_deg"],
+        r["cylinder_axes_deg"],
+    )
+    # the vectors' labels stand on them, 1.17 from the centre
+    labelled = [
+        math.degrees(math.atan2(*t.get_position()))
+        for t in fig.axes[1].texts
+        if abs(math.hypot(*t.get_position()) - 1.17) < 1e-9
+    ]
+    assert labelled == [pytest.approx(2 * tdc, abs=0.006)], labelled  # grouped to 0.01°

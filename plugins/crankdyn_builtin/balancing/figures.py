@@ -75,8 +75,11 @@ def _star_drawing(titles, labels, crank_directions_deg, phases_deg, axes_deg):
             ]
             color, title = "C0", titles[0]
         else:  # one C_II vector per cylinder, at twice the angle between its crank and its axis
+            # an offset crank-slider's crank stands off the axis at TDC (crank 1 carries the
+            # first cylinder, at its own TDC when θ = 0): that angle doubles too
+            tdc = crank_dirs[0] - (axes_rad[0] - phases[0])
             vectors = [
-                (axes_rad[i] - 2 * phases[i], r"$C_{\mathrm{II}}$" if single else label)
+                (axes_rad[i] - 2 * phases[i] + 2 * tdc, r"$C_{\mathrm{II}}$" if single else label)
                 for i, label in enumerate(labels)
             ]
             color, title = "C1", titles[1]
