@@ -66,3 +66,25 @@ def test_the_bays_section_prints_the_table_with_strokes_spanning_their_columns()
     table = html[html.index("Чергування тактів у циліндрах за кутом") :]
     table = table[: table.index("</table>")]
     assert "<th>630–720</th>" in table and table.count('colspan="2">робочий хід<') >= 6
+
+
+def test_an_offset_fours_stroke_table_says_its_strokes_are_not_half_turns():
+    """With the cylinder axis offset the piston reaches BDC 183.2° after TDC (e = 12 mm, R = 39 mm,
+    L = 139.3 mm: φ from sin φ = e/(L ± R)): the table of strokes by half-turns says how long
+    the strokes really are; a central engine's says nothing of it."""
+    import math
+
+    from conftest import shared_html, shared_run
+
+    offset = {"engine": {"mechanism": "offset_crank_slider"}, "mechanism": {"offset": "12 mm"}}
+    r = shared_run("inline4-petrol", offset).outputs["bays"].results
+    radius = 0.039
+    rod = radius / 0.28
+    tdc = math.asin(0.012 / (rod + radius))
+    bdc = math.pi + math.asin(0.012 / (rod - radius))
+    assert r["bdc_crank_angle_deg"] == pytest.approx(math.degrees(bdc - tdc), abs=1e-6)
+    page = shared_html("inline4-petrol", offset, "en", ("bays",)).linked_html
+    outward = f"{r['bdc_crank_angle_deg']:.4g}"
+    assert f"strokes away from the crankshaft and towards it take {outward}°" in page
+    central = shared_html("inline4-petrol", None, "en", ("bays",)).linked_html
+    assert "strokes away from the crankshaft and towards it" not in central

@@ -184,6 +184,9 @@ def run(scene, inputs) -> StageOutput:
     e = scene.engine
     layout = engine_layout(scene)
     results = _layout_results(e, layout)
+    bdc = float(motion.extra.get("bdc_crank_angle_deg", 180.0))
+    if abs(bdc - 180.0) > 1e-6:  # an offset crank-slider's strokes are not half-turns
+        results["bdc_crank_angle_deg"] = bdc
     if layout.cranks > 1:  # a one-crank engine's front-view scheme shows all it has
         offset, source = _rod_offset_m(scene, layout)
         results["plan"] = plan_data(layout, e.bore, e.cylinder_spacing, offset)
