@@ -188,7 +188,7 @@ def test_a_straight_eights_plan_keeps_its_words_apart():
     free end's name beside crank 1's throw or for a's text between its extension lines: crank 1
     keeps the word, the others their numbers, and no two words of the plan overlap."""
     eight = {"engine": {"cylinders": 8, "firing_order": [1, 6, 2, 5, 8, 3, 7, 4]}}
-    plan = shared_run("inline4-petrol", eight).outputs["bays"].results["plan"]
+    plan = shared_run("inline4-petrol", eight, stages=["bays"]).outputs["bays"].results["plan"]
     t = _t("ru")
     fig = plan_figure(plan, plan_texts(plan, t))
     fig.canvas.draw()
