@@ -198,19 +198,29 @@ def _excess_results(excess, torque) -> dict:
 LOWER_SPEED_FRACTIONS = (0.75, 0.5, 0.25)
 
 
-def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> dict:
-    """ΔL and δ with the same cylinder pressures and the same J at :data:`LOWER_SPEED_FRACTIONS`
-    of the scene's speed (:func:`fw.excess_work_at_speed_J`), and the highest speed below the
-    scene's at which δ reaches the ``required`` one (scanned down in steps of 1 % of the speed to
-    a tenth of it, to three significant digits; None if it does not, if δ meets [δ] at the given
-    speed only just, or none is required); both None where the loads take the rod as a rigid
-    body, whose inertia torque the two-mass J(α) does not hold."""
-    if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
+def _gas_results(scene, torque, train, total_inertia_kg_m2: float, required, irregularity):
+    """ΔL of the gas forces' torque alone (``excess_work_gas_J``, None without it) and
+    :func:`lower_speeds`, from the one gas torque of :func:`gas_torque_Nm`."""
+    gas = gas_torque_Nm(scene, torque, train)
+    alpha = np.radians(torque.crank_angle_deg)
+    own = None if gas is None else float(fw.excess_work(alpha, gas).excess_work_J)
+    return {
+        "excess_work_gas_J": own,
+        **lower_speeds(scene, torque, gas, total_inertia_kg_m2, required, irregularity),
+    }
+
+
+def lower_speeds(scene, torque, gas, total_inertia_kg_m2: float, required, irregularity) -> dict:
+    """ΔL and δ with the same cylinder pressures (the gas torque ``gas``, :func:`gas_torque_Nm`)
+    and the same J at :data:`LOWER_SPEED_FRACTIONS` of the scene's speed
+    (:func:`fw.excess_work_at_speed_J`), and the highest speed below the scene's at which δ
+    reaches the ``required`` one (scanned down in steps of 1 % of the speed to a tenth of it, to
+    three significant digits; None if it does not, if δ at the given speed, ``irregularity``,
+    meets [δ] only just, or none is required); both None without a gas torque."""
+    if gas is None:
         return {"lower_speeds": None, "required_irregularity_reached_rpm": None}
     omega = torque.angular_velocity_rad_s
     alpha = np.radians(torque.crank_angle_deg)
-    _, derivative = train.series()(alpha)
-    gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, omega)
     inertia = np.asarray(torque.torque_Nm) - gas
 
     # the rows' speeds and every 1 % of the speed from 99 % down to 10 %, at once
@@ -230,8 +240,7 @@ def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> 
     reached = None
     # where δ at the given speed is clearly below [δ] (the engine's own inertia or a given
     # flywheel; a designed one meets [δ] there, and any lower speed exceeds it)
-    rated = fw.excess_work_at_speed_J(alpha, gas, inertia, 1.0) / (total_inertia_kg_m2 * omega**2)
-    if required is not None and rated < 0.99 * required:
+    if required is not None and irregularity < 0.99 * required:
         scan = np.flatnonzero(deltas[count:] >= required)
         if scan.size:
             # three significant digits: the scan's own step is 1 % of the speed
@@ -239,18 +248,16 @@ def lower_speeds(scene, torque, train, total_inertia_kg_m2: float, required) -> 
     return {"lower_speeds": rows, "required_irregularity_reached_rpm": reached}
 
 
-def gas_excess_work_J(scene, torque, train) -> float | None:
-    """ΔL of the gas forces' torque alone, J: the output torque with the reciprocating masses'
+def gas_torque_Nm(scene, torque, train):
+    """The gas forces' torque alone, N·m: the output torque with the reciprocating masses'
     inertia torque −½J′(α)ω² taken out (:func:`sf.gas_torque_Nm`), which shows how much of ΔL
     the inertia forces make at the scene's speed; None where the loads take the rod as a rigid
     body (``[rod_dynamics] apply_to_loads``), whose inertia torque the two-mass J(α) does not
     hold."""
     if options(scene, "rod_dynamics", RodDynamicsOptions).apply_to_loads:
         return None
-    alpha = np.radians(torque.crank_angle_deg)
-    _, derivative = train.series()(alpha)
-    gas = sf.gas_torque_Nm(torque.torque_Nm, derivative, torque.angular_velocity_rad_s)
-    return float(fw.excess_work(alpha, gas).excess_work_J)
+    _, derivative = train.series()(np.radians(torque.crank_angle_deg))
+    return sf.gas_torque_Nm(torque.torque_Nm, derivative, torque.angular_velocity_rad_s)
 
 
 def exact_design(torque, train, engine_inertia, required_irregularity, energy_flywheel):
@@ -346,7 +353,6 @@ def run(scene, inputs) -> StageOutput:
     results: dict = {
         "angular_velocity_rad_s": omega,
         **_excess_results(excess, torque),
-        "excess_work_gas_J": gas_excess_work_J(scene, torque, train),
         "mechanism_inertia_mean_kg_m2": mechanism,
         "engine_inertia_kg_m2": opts.engine_inertia,
         "counterweight_inertia_kg_m2": counterweights,
@@ -361,7 +367,7 @@ def run(scene, inputs) -> StageOutput:
         **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
-        **lower_speeds(scene, torque, train, total, opts.required_irregularity),
+        **_gas_results(scene, torque, train, total, opts.required_irregularity, irregularity),
         "flywheel_share": flywheel / total,
         # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
         "flywheel_inertia_difference_kg_m2": (
