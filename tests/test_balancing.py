@@ -766,7 +766,8 @@ def test_the_abstract_says_what_the_counterweights_alone_would_leave():
 #: The in-line four as a flat four (cranks 0/180/180/0 by the firing order 1-3-2-4): it balances
 #: its forces of every order and its first-order moment, and leaves ΣM_II (and higher even orders).
 FLAT_FOUR = {"engine": {"layout": "boxer", "firing_order": [1, 3, 2, 4]}}
-FLYING_FLAT_FOUR = {"engine": {**FLAT_FOUR["engine"], "application": "aircraft"}}
+#: The default means (the example asks for the second order too).
+FLYING_FLAT_FOUR = {"engine": {**FLAT_FOUR["engine"], "application": "aircraft"}, "balancing": None}
 
 
 def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_its_moment_goes():
@@ -784,6 +785,7 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     section = "неуравновешенными ΣMII, ΣMIV вызывают колебания двигателя на упругих опорах"
     assert text.count(section) == 2  # in the section and in the conclusions
     assert text.count("гасит амортизированная подмоторная рама") == 2
+    assert "Уравновешивающие валы второго порядка не предусмотрены" not in text
     # the abstract names what the cranks balance and what they leave, with the values
     assert "схема колен уравновешивает ΣC, ΣMC, ΣPI, ΣMI, ΣPII, ΣPIV и ΣPVI; " in text
     assert re.search(r"неуравновешенными остаются ΣMII = \d+,\d\sН·м, ΣMIV = ", text)
@@ -792,6 +794,27 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     assert "Противовесы коленчатого вала не уравновешивают" not in text  # there are none
     # a flat engine's main bearings are plain ones, judged as such
     assert "подшипниками качения" not in text
+
+
+def test_an_engine_left_with_a_second_order_moment_by_default_says_why_it_has_no_shafts():
+    """Second-order shafts are fitted only where asked for (a radial's balancer aside): by default
+    the flat four keeps its ΣM_II, and the section and its conclusion say what two shafts at 2ω
+    would take and why they are left out; a car's reason is not an aircraft's."""
+    from conftest import as_read, shared_html, shared_run
+
+    car = {**FLAT_FOUR, "balancing": None}
+    r = shared_run("inline4-petrol", car, ("balancing",)).outputs["balancing"].results
+    assert r["residual"]["balanced_orders"] == [1] and not r["balance_shafts"]
+    left = {s["quantity"] for s in r["summary"] if not s["balanced"]}
+    assert left == {"M_PII", "M_PIV", "M_PVI"}
+    page = shared_html("inline4-petrol", car, "ru", ("balancing",)).linked_html
+    text = as_read(re.sub(r"<[^>]+>", "", page))
+    why = "Уравновешивающие валы второго порядка не предусмотрены: для уравновешивания ΣMII нужны"
+    assert text.count(why) == 2  # in the section and in the conclusions
+    assert "подмоторная рама" not in text
+    # asked for, the shafts take it and the sentence goes
+    asked = shared_html("inline4-petrol", FLAT_FOUR, "ru", ("balancing",)).linked_html
+    assert "не предусмотрены" not in asked
 
 
 def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract():
@@ -871,19 +894,26 @@ def test_a_radials_second_order_part_of_its_slaves_is_said_to_be_theirs_where_it
     assert "only the slave cylinders give it too, but that is more than a few per cent" in text
 
 
+#: The in-line four made a three with the default means: its first-order couple takes a shaft.
+INLINE_THREE = {"engine": {"cylinders": 3, "firing_order": [1, 3, 2]}, "balancing": None}
+
+
 @pytest.mark.parametrize(
-    "example, moments",
-    [("petrol-1cyl", False), ("radial9-aircraft", False), ("inline4-petrol", True)],
+    "example, changes, moments",
+    [
+        ("petrol-1cyl", None, False),
+        ("radial9-aircraft", None, False),
+        ("inline4-petrol", INLINE_THREE, True),
+    ],
 )
-def test_moments_are_named_only_where_the_cylinders_give_them(example, moments):
+def test_moments_are_named_only_where_the_cylinders_give_them(example, changes, moments):
     """A single cylinder's or a star's forces act in one plane across the shaft: what the means
     leave and what leaving them out would leave are forces, not "forces and moments"; an in-line
     engine's cylinders lie in several planes and keep the moments."""
     from conftest import shared_html
 
-    text = " ".join(
-        re.sub(r"<[^>]+>", "", shared_html(example, None, "ru", ("balancing",)).linked_html).split()
-    )
+    page = shared_html(example, changes, "ru", ("balancing",)).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", page).split())
     assert "если вибрации двигателя с неуравновешенными силами" in text
     assert ("с неуравновешенными силами и моментами" in text) is moments
     assert "из сил инерции и их моментов" not in text or moments

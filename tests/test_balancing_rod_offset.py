@@ -132,7 +132,8 @@ def test_a_flat_plane_v8s_conclusion_leaves_the_rods_couples_out_of_what_balance
         "engine": {
             "crank_angles_deg": [0, 180, 180, 0],
             "firing_order": ["1L", "1R", "3L", "3R", "4L", "4R", "2L", "2R"],
-        }
+        },
+        "balancing": {"balance_orders": [1, 2]},  # shafts for ΣP_II: the conclusion says both
     }
     couples = shared_run("v8-petrol", flat, stages=["balancing"]).outputs["balancing"].results
     assert couples["rod_offset_couples"]["moments"][1]["moment_Nm"] > 100

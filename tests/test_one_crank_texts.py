@@ -93,6 +93,8 @@ V_TWIN = {
         "expansion_index": 1.25,
         "exhaust_pressure": "0.115 MPa",
     },
+    # the second order too: a V-twin's two second-order shafts carry unequal counterweights
+    "balancing": {"balance_orders": [1, 2]},
 }
 
 OMEGA = 1700 * math.pi / 30

@@ -53,9 +53,8 @@ class BalancingOptions(RodOffsetOptions):
     balance_shaft_radius: _quantity("length", gt=0, le=2.0, unit="mm", scale=1e-3) | None = None
     balance_shaft_spacing: _quantity("length", gt=0, le=20.0, unit="mm", scale=1e-3) | None = None
     include_orders: Annotated[list[int], AfterValidator(_include)] = [1, 2, 4, 6]
-    # None: the first order for one cylinder (a counterweight and one shaft, as single-cylinder
-    # engines are built; the second order's two Lanchester shafts are rarely worth it there), the
-    # first and second for more (:func:`balance_orders_for`)
+    # None: the first order (counterweights, and a shaft where the cranks leave a first-order
+    # force or couple), the second too for a radial (:func:`balance_orders_for`)
     balance_orders: Annotated[list[int], AfterValidator(_orders)] | None = None
     counterweights: Literal["ends", "every_crank"] = "ends"
     first_order_forward: Literal["crankshaft", "shaft"] = "crankshaft"
@@ -64,13 +63,17 @@ class BalancingOptions(RodOffsetOptions):
 
 
 def balance_orders_for(scene, opts: BalancingOptions) -> list[int]:
-    """The orders to balance: the scene's ``[balancing] balance_orders``, else [1] for a
-    single-cylinder engine and for an aircraft engine other than a radial (second-order shafts
-    add mass a flying engine is not built with: its mount takes what is left), [1, 2] for more
-    cylinders."""
+    """The orders to balance: the scene's ``[balancing] balance_orders``, else [1, 2] for a
+    radial (its second-order force turns at twice the shaft's speed, and a radial's balancer
+    takes it with the first) and [1] for every other engine: counterweights, and a shaft where
+    the cranks leave a first-order force or couple. Second-order shafts (two more, at twice the
+    shaft's speed) are fitted only to some engines, so a scene asks for them; the section says
+    what they would balance
+    (:func:`crankdyn_builtin.balancing.section.second_order_left_by_default`)."""
     if opts.balance_orders is not None:
         return list(opts.balance_orders)
-    return [1] if scene.engine.cylinders == 1 or flies_without_shafts(scene) else [1, 2]
+    radial = scene.engine.layout == "radial" and scene.engine.cylinders > 1
+    return [1, 2] if radial else [1]
 
 
 def flies_without_shafts(scene) -> bool:

@@ -24,7 +24,7 @@ from .tables import (
 )
 
 
-def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None:
+def _conclude(ctx, r, left_without_means: str, no_shafts: str) -> None:
     """The section's conclusions: what stays unbalanced, which means are fitted (or, with none,
     what the crank arrangement leaves: ``left_without_means``, :func:`_left_without_means`)."""
     t = ctx.t
@@ -83,8 +83,8 @@ def _conclude(ctx, r, left_without_means: str, no_shafts_aircraft: bool) -> None
             sentence += f" {left[:1].upper()}{left[1:]}."
         ctx.conclude(sentence)
     elif left_without_means:  # the decision the section states: no means, the mounts
-        aircraft = " " + t("balancing.no_shafts_aircraft") if no_shafts_aircraft else ""
-        ctx.conclude(t("balancing.no_means_left", left=left_without_means) + aircraft)
+        why = " " + t(no_shafts, what=_second_order_left(t, r)) if no_shafts else ""
+        ctx.conclude(t("balancing.no_means_left", left=left_without_means) + why)
     if r.get("internal_moment_Nm") and not r["counterweights"]:  # they would bend the shaft
         ctx.conclude(
             t(
@@ -666,16 +666,32 @@ def _left_without_means(r) -> str:
     return ", ".join(plain_symbol(s) for s in unbalanced if not _negligible(r, s))
 
 
-def _no_shafts_in_aircraft(ctx, r) -> bool:
-    """Whether the second order is left by default because the engine flies (its default orders,
-    :func:`crankdyn_builtin.balancing.options.balance_orders_for`) while it leaves some of it."""
+def second_order_left_by_default(ctx, r) -> str:
+    """The catalog key of the sentence on why no second-order shafts are fitted, where the
+    default orders (:func:`crankdyn_builtin.balancing.options.balance_orders_for`) leave a
+    second-order force or moment that is not negligible: an aircraft's (its mount takes it) or
+    any other engine's; "" where the scene names the means, they take the second order, or one
+    cylinder's means say it themselves (``balancing.second_left_single``)."""
     scene = ctx.scene
-    if scene is None or r["means_given"] or not flies_without_shafts(scene):
-        return False
+    if scene is None or r["means_given"] or len(r["cylinder_labels"]) == 1:
+        return ""
     if 2 in (r.get("residual") or {}).get("balanced_orders", ()):
-        return False
-    return any(
+        return ""
+    if not any(
         s["order"] == 2 and not s["balanced"] and not _negligible(r, s) for s in r["summary"]
+    ):
+        return ""
+    return "balancing.no_shafts_aircraft" if flies_without_shafts(scene) else "balancing.no_shafts"
+
+
+def _second_order_left(t, r) -> str:
+    """ "ΣP_II and ΣM_II": the second-order resultants left that are not negligible."""
+    return t.join_and(
+        [
+            plain_symbol(s)
+            for s in r["summary"]
+            if s["order"] == 2 and not s["balanced"] and not _negligible(r, s)
+        ]
     )
 
 
@@ -746,8 +762,8 @@ def render(output: StageOutput, ctx) -> str | None:
     explorer_table = _explorer_table(ctx, r)
     items = mass_difference_items(ctx.t, r)
     left_without_means = _left_without_means(r)
-    no_shafts_aircraft = _no_shafts_in_aircraft(ctx, r)
-    _conclude(ctx, r, left_without_means, no_shafts_aircraft)
+    no_shafts = second_order_left_by_default(ctx, r)
+    _conclude(ctx, r, left_without_means, no_shafts)
     return ctx.render_template(
         "sections/balancing.html.j2",
         r=r,
@@ -790,7 +806,7 @@ def render(output: StageOutput, ctx) -> str | None:
         small_left=", ".join(
             plain_symbol(s, "Σ") for s in r["summary"] if not s["balanced"] and _negligible(r, s)
         ),
-        no_shafts_aircraft=no_shafts_aircraft,
+        no_shafts=ctx.t(no_shafts, what=_second_order_left(ctx.t, r)) if no_shafts else "",
         means_what=balanced_by_means(ctx.t, r)
         if r["counterweights"] or r["balance_shafts"]
         else "",
