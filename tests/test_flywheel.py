@@ -302,6 +302,30 @@ def test_an_engine_whose_own_inertia_meets_the_required_irregularity_gets_no_fly
     assert text.count("A vehicle's engine carries a flywheel all the same") == 2  # and concluded
 
 
+def test_a_vehicles_designed_flywheel_is_said_to_be_chosen_for_moving_off_too():
+    """A flywheel designed for [δ] at the rated speed leaves a car's engine with a δ many times
+    [δ] at a quarter of that speed, near idling: the section and the conclusions say a
+    vehicle's flywheel is chosen for starting, idling and moving off as well (the conclusion with
+    that δ, the lower speeds' last row); an engine of no stated use gets neither."""
+    from conftest import shared_html, shared_run
+
+    car = {"engine": {"application": "automotive"}}
+    r = shared_run("inline4-petrol", car, ("flywheel",)).outputs["flywheel"].results
+    quarter = r["lower_speeds"][-1]
+    assert quarter["speed_fraction"] == 0.25 and quarter["irregularity"] > 3 * 0.01
+    page = shared_html("inline4-petrol", car, "en", ("flywheel",)).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", " ", page)).split())
+    text = re.sub(r"[\u2009\u202f\u00a0]", " ", text)
+    assert "A vehicle's flywheel also has to get the vehicle moving off" in text
+    conclusion = (
+        f"At a quarter of the given speed ({quarter['rpm']:.0f} rpm) the same J would leave "
+        f"δ = {quarter['irregularity']:.3g} with the full-load pressures"
+    )
+    assert conclusion in text[text.index("Conclusions") :]
+    plain = shared_html("inline4-petrol", None, "en", ("flywheel",)).linked_html
+    assert "moving off" not in plain
+
+
 def test_a_rim_faster_than_allowed_fails_in_the_abstract_and_the_conclusions():
     """The section said the rim is too fast while the abstract and the conclusions presented the
     flywheel as adequate."""

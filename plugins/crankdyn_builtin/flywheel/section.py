@@ -53,10 +53,17 @@ def render(output: StageOutput, ctx) -> str:
             else "flywheel.see_table"
         ),
     ) + worked_flywheel(ctx, r)
+    low_speed = vehicle_low_speed(ctx.scene, r)
     if r.get("own_inertia_sufficient"):
         _conclude_not_needed(ctx, r)
     else:
         _conclude(ctx, r)
+        if low_speed is not None:
+            ctx.conclusions[-1] += " " + t(
+                "flywheel.conclusion_vehicle_low_speed",
+                rpm=t.number_g(low_speed["rpm"], 5),
+                delta=t.number_g(low_speed["irregularity"], 3),
+            )
         _conclude_rim_too_fast(ctx, r)
     opts = options(ctx.scene, "flywheel", FlywheelOptions)
     # an aircraft engine's propeller takes the flywheel's part: its texts (the title, the
@@ -66,6 +73,7 @@ def render(output: StageOutput, ctx) -> str:
         "sections/flywheel.html.j2",
         propeller=propeller,
         vehicle_applications=VEHICLE_APPLICATIONS,
+        vehicle_low_speed=low_speed is not None,
         r=r,
         cylinders=ctx.scene.engine.cylinders,
         cranks=cranks,
@@ -289,6 +297,22 @@ def _conclude_rim_too_fast(ctx, r: dict) -> None:
 #: The engines of vehicles: they carry a flywheel for starting, idling and moving off and for the
 #: clutch, whatever the rated speed's irregularity asks for.
 VEHICLE_APPLICATIONS = ("automotive", "tractor", "motorcycle")
+
+
+def vehicle_low_speed(scene, r: dict) -> dict | None:
+    """The lowest of the lower speeds' rows (``flywheel.lower_speeds``: a quarter of the given
+    speed) where a vehicle's flywheel is designed for [δ] at the given speed and δ there exceeds
+    [δ]: a vehicle's flywheel is chosen for starting, idling and moving off as well, which the
+    section and the conclusions say with that δ; None otherwise."""
+    if scene is None or scene.engine.application not in VEHICLE_APPLICATIONS:
+        return None
+    required = r["required_irregularity"]
+    if required is None or r.get("own_inertia_sufficient") or r["flywheel_given"]:
+        return None
+    rows = r.get("lower_speeds") or []
+    if not rows or rows[-1]["irregularity"] <= required:
+        return None
+    return rows[-1]
 
 
 def _conclude_not_needed(ctx, r) -> None:
