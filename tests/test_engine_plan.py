@@ -220,3 +220,19 @@ def test_an_angle_column_prints_each_angle_as_it_is():
     assert exact_decimals([0.0, 8.4375]) == 3  # at most three, the nearest then
     assert exact_decimals([53.4375, 202.5], most=1) == 1
     assert exact_decimals([1.0 / 3.0]) == 3
+
+
+def test_the_bank_letters_say_from_which_end_left_and_right_are_seen():
+    """ "Л – лівий ряд" means nothing without the end it is seen from (manuals name banks from
+    either end). The shaft turns clockwise seen from its free end, and a crank reaches bank L's
+    axis first: L's axis lies the bank angle before R's in the turning sense, so with the V's
+    bisector up the L bank is on the left seen from the free end, which the sentence says."""
+    from crankdyn.plugin.scene_inputs import engine_layout
+
+    result = shared_run("v8-petrol")
+    layout = engine_layout(result.scene)
+    axes = {c.label[-1]: c.axis_deg for c in layout.cylinders}
+    bank_angle = result.scene.engine.bank_angle_deg
+    assert axes["L"] == 0 and axes["R"] == pytest.approx(bank_angle)  # clockwise from L
+    text = re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "uk", ("bays",)).linked_html)
+    assert "Л – лівий ряд, П – правий ряд (якщо дивитися з боку вільного кінця колінчастого" in text
