@@ -173,7 +173,8 @@ def test_the_abstract_does_not_call_the_residuals_the_only_ones_before_the_rods_
     language, only, left
 ):
     """The abstract says what the fitted means leave of the forces and then the couples the rods'
-    offset leaves as well: the first list is not "the only" residuals then."""
+    offset leaves as well: the first list is not "the only" residuals then, and the couples
+    follow as more ("besides"), not announced as "the parts named next"."""
     import re
 
     # the full note in Russian (shared with the next tests), the balancing alone in the others
@@ -185,6 +186,13 @@ def test_the_abstract_does_not_call_the_residuals_the_only_ones_before_the_rods_
     before = text[: text.index(couples[language])]
     sentence = before[before.rindex(". ") :]
     assert left in sentence and only not in sentence, sentence
+    besides = {
+        "ru": "; кроме того, смещение",
+        "uk": "; крім того, зміщення",
+        "en": "; besides, the",
+    }
+    assert besides[language] in sentence, sentence
+    assert "далее" not in sentence and "далі" not in sentence and "named next" not in sentence
 
 
 def test_a_one_crank_engines_table_gives_no_crank_angles():
