@@ -214,8 +214,8 @@ def lower_speeds(scene, torque, gas, total_inertia_kg_m2: float, required, irreg
     """ΔL and δ with the same cylinder pressures (the gas torque ``gas``, :func:`gas_torque_Nm`)
     and the same J at :data:`LOWER_SPEED_FRACTIONS` of the scene's speed
     (:func:`fw.excess_work_at_speed_J`), and the highest speed below the scene's at which δ
-    reaches the ``required`` one (scanned down in steps of 1 % of the speed to a tenth of it, to
-    three significant digits; None if it does not, if δ at the given speed, ``irregularity``,
+    reaches the ``required`` one (scanned down in steps of 1 % of the speed to a tenth of it,
+    interpolated between the two steps about [δ], to three significant digits; None if it does not, if δ at the given speed, ``irregularity``,
     meets [δ] only just, or none is required); both None without a gas torque."""
     if gas is None:
         return {"lower_speeds": None, "required_irregularity_reached_rpm": None}
@@ -243,8 +243,15 @@ def lower_speeds(scene, torque, gas, total_inertia_kg_m2: float, required, irreg
     if required is not None and irregularity < 0.99 * required:
         scan = np.flatnonzero(deltas[count:] >= required)
         if scan.size:
-            # three significant digits: the scan's own step is 1 % of the speed
-            reached = float(f"{fractions[count + scan[0]] * scene.engine.rpm:.3g}")
+            # between the scan's last speed below [δ] (or the given one) and its first above,
+            # δ varies smoothly: interpolated linearly, to three significant digits
+            hit = count + scan[0]
+            upper, above = (
+                (1.0, irregularity) if scan[0] == 0 else (fractions[hit - 1], deltas[hit - 1])
+            )
+            lower, below = fractions[hit], deltas[hit]
+            fraction = upper + (required - above) * (lower - upper) / (below - above)
+            reached = float(f"{fraction * scene.engine.rpm:.3g}")
     return {"lower_speeds": rows, "required_irregularity_reached_rpm": reached}
 
 

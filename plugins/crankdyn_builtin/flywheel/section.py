@@ -200,8 +200,9 @@ def _rim_rows(rim: dict | None, t) -> list[tuple]:
 
 
 def _energy_needs_none(r: dict) -> bool:
-    """Whether the energy method finds the engine's own inertia enough for [δ] (no flywheel)."""
-    return not r["flywheel_given"] and r["required_flywheel_inertia_kg_m2"] == 0.0
+    """Whether the energy method finds the engine's own inertia enough for [δ] (no flywheel),
+    also beside a given flywheel: J_0 − J_m − J_e is then not "a flywheel of 0 kg·m²"."""
+    return r["required_flywheel_inertia_kg_m2"] == 0.0
 
 
 def raised_params(ctx, r: dict) -> dict:
