@@ -297,3 +297,9 @@ def test_a_constant_reduced_inertia_is_drawn_with_ticks_apart():
     assert low == pytest.approx(0.98 * 40.727096) and high == pytest.approx(1.02 * 40.727096)
     ticks = [tick.get_text() for tick in fig.axes[1].get_yticklabels() if tick.get_text()]
     assert len(ticks) >= 2 and len(set(ticks)) == len(ticks), ticks
+    # a 60° V12 with a propeller: 4.94382…4.94388 kg·m² (0.001 %) is drawn flat too, not swung
+    # over the axis's height; a 2 % swing keeps limits of its own
+    for swing, flat in ((6e-5, True), (0.1, False)):
+        f["inertia_kg_m2"] = 4.94385 + swing / 2 * np.sin(np.radians(12 * angle))
+        low, high = _speed_plot(f, None, 360.0, translator("en")).axes[1].get_ylim()
+        assert bool(low == pytest.approx(0.98 * 4.94385)) is flat, (swing, low, high)

@@ -105,8 +105,10 @@ def _speed_plot(f, method, cycle_deg, t):
     inertia = np.asarray(f["inertia_kg_m2"], dtype=float)
     axes[1].plot(angle, inertia, color="C4")
     mean = float(inertia.mean())
-    if np.ptp(inertia) <= 1e-6 * abs(mean):  # an even V16's: constant but for rounding
-        axes[1].set_ylim(0.98 * mean, 1.02 * mean)  # ticks apart, not one value over and over
+    # an even V16's (constant but for rounding) or a V12's (0.001 %): drawn flat within ±2 %,
+    # not stretched over the axis's height as if J swung, nor one tick value over and over
+    if np.ptp(inertia) <= 1e-3 * abs(mean):
+        axes[1].set_ylim(0.98 * mean, 1.02 * mean)
     axes[1].set_ylabel(t("speed_fluctuation.axis_inertia"))
     crank_angle_axis(axes[1], cycle_deg, t("axis.crank_angle"))
     return fig
