@@ -310,6 +310,16 @@ def test_fork_and_blade_rods_are_said_to_make_no_couple():
     said = "The fork-and-blade rods of a crank pin work in one plane"
     assert said in html
     assert said not in shared_html("v8-petrol", None, "en", ("balancing",)).linked_html
+    # in Russian and Ukrainian a fork's partner is the inner (blade) rod: both rods are central
+    for language, words in (
+        ("ru", "Вильчатый и внутренний шатуны"),
+        ("uk", "Вилчастий і внутрішній"),
+    ):
+        page = shared_html("v8-petrol", fork, language, ("balancing", "bays")).linked_html
+        assert (
+            words in page
+            and "центральн" + ("ый шатун" if language == "ru" else "ий шатун") not in page
+        )
 
 
 def test_an_offset_engines_second_order_vectors_stand_at_twice_its_cranks_angle():
