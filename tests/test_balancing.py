@@ -1157,7 +1157,7 @@ def test_the_given_means_radii_and_rod_offset_are_among_the_task_data():
         (
             "inline3-petrol",
             "ΣMC turns with the shaft at a constant size; ΣMI, ΣMII, and ΣMIV pulsate in the "
-            "vertical plane through the shaft's axis and rock the engine about a transverse axis.",
+            "vertical plane through the shaft's axis and rock the engine about the horizontal axis across the shaft.",
         ),
     ],
 )
