@@ -270,7 +270,7 @@ def test_long_single_disc_series_gives_what_the_short_path_gives(monkeypatch):
 def test_the_extreme_speeds_print_apart():
     """A heavy propeller's 0.13 rad/s swing about 272 rad/s prints as 272.20 and 272.33 (five
     significant digits), a V10's 2.6 rad/s about 680 rad/s with the usual four."""
-    from crankdyn_builtin.speed_fluctuation.section import speed_digits
+    from crankdyn_builtin.speed_fluctuation.worked import speed_digits
 
     assert speed_digits(272.33, 272.20) == 5
     assert speed_digits(681.9, 679.3) == 4
@@ -303,3 +303,28 @@ def test_a_constant_reduced_inertia_is_drawn_with_ticks_apart():
         f["inertia_kg_m2"] = 4.94385 + swing / 2 * np.sin(np.radians(12 * angle))
         low, high = _speed_plot(f, None, 360.0, translator("en")).axes[1].get_ylim()
         assert bool(low == pytest.approx(0.98 * 4.94385)) is flat, (swing, low, high)
+
+
+def test_the_worked_irregularity_divides_by_the_mean_speed_the_text_prints():
+    """The worked δ = (ω_max − ω_min)/ω_m substitutes ω_m as the section prints it: a generator
+    set's 104,65 rad/s beside its 0,5232 range, whose quotient is the δ printed (0,5232/104,6
+    would give 0,005002 against the printed 0,005000)."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html
+
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.speed_fluctuation.worked import speed_digits
+
+    assert speed_digits(104.91, 104.39) == 5
+    assert translator("uk").number(0.5 * (104.9116 + 104.3884), 5) == "104,65"
+    generator = {"engine": {"rpm": 1000, "application": "stationary"}}
+    generator["flywheel"] = {"required_irregularity": 0.002}
+    page = shared_html("inline4-petrol", generator, "en", ("speed_fluctuation",)).linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", "", page)).split())
+    stated = re.search(r"ωm = \(ωmax \+ ωmin\)/\u2060?2 = ([\d.]+) rad", text).group(1)
+    worked = re.search(r"δ = \(ωmax − ωmin\)/ωm = ([\d.]+)/\u2060?([\d.]+) = ([\d.]+)", text)
+    assert worked.group(2) == stated, (worked.group(0), stated)
+    quotient = float(worked.group(1)) / float(worked.group(2))
+    assert quotient == pytest.approx(float(worked.group(3)), abs=0.6 * 10 ** (-6))

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import math
-
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.typeset import symbol_html
 from crankdyn.scene import options
-from crankdyn_builtin.speed_fluctuation.worked import worked_speed_fluctuation
+from crankdyn_builtin.speed_fluctuation.worked import speed_digits, worked_speed_fluctuation
 
 from .figures import _error_figure, _speed_figure, last_crank, no_flywheel
 from .options import TorsionOptions
@@ -63,15 +61,6 @@ def _raised_conclusion(ctx, r) -> str | None:
         energy=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
         deviation=ctx.num(r["irregularity_deviation_percent"], 2),
     )
-
-
-def speed_digits(omega_max: float, omega_min: float) -> int:
-    """Significant digits that print the extreme speeds apart, their difference to two digits
-    (272,20 and 272,33 rad/s, not 272,2 and 272,3), at least four."""
-    spread = omega_max - omega_min
-    if spread <= 0 or omega_max <= 0:
-        return 4
-    return max(4, math.floor(math.log10(omega_max)) - math.floor(math.log10(spread)) + 2)
 
 
 def _chain_end(torsion) -> dict:
