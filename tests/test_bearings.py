@@ -852,6 +852,8 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
     assert (guide in text) is said
     if said:
         assert f"The engine is a {application} engine: the allowable bearing pressures" in text
-    # and the conclusions, which repeat the verdicts, say so too
-    concluded = f"The engine is a {application} engine, so the allowable bearing pressures of"
+    # and the conclusions, which repeat the verdicts, say so too, before them
+    concluded = f"The engine is a {application} engine, so the allowable bearing pressures the"
     assert (concluded in text) is said
+    if said:  # before the verdicts it qualifies
+        assert text.rindex(concluded) < text.rindex("The big-end bearing pressure is within")

@@ -406,14 +406,17 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     loaded = centrifugal_journal(r)
     if loaded is not None:
         ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
+    rolling = _rolling_supports(ctx.scene)
     pressures = _pressure_conclusion(ctx, r)
+    # another engine than a car's or a tractor's: said before the verdicts it qualifies, which
+    # then read as what those pressures would need
+    guided = "" if rolling or not pressures else _guided_application(ctx, r)
+    if guided:
+        ctx.conclude(guided)
     if pressures:
         ctx.conclude(pressures)
-    rolling = _rolling_supports(ctx.scene)
     if rolling:  # the plain-bearing figures above are a guide only for such supports
         ctx.conclude(t("bearings.conclusion_" + rolling, **_rolling_loads(ctx, r)))
-    elif guided := _guided_application(ctx, r):
-        ctx.conclude(guided)
 
 
 #: The applications whose engines the car and tractor engines' allowable pressures only guide.
