@@ -145,3 +145,22 @@ def test_the_worked_sum_says_where_its_angles_lie_between_the_forces_tables_rows
     rows = note(30)
     assert "is taken from the forces table of section" in rows
     assert "lie between its rows" not in rows
+
+
+def test_a_journal_torque_that_peaks_alike_twice_takes_the_crank_most_loaded_there():
+    """Table B.4's |t_k| row: an in-line six's journal torque repeats every 240°, so |t_k| peaks
+    alike at two angles; the row takes the one where the crank's own load q is larger (the
+    combination its strength is checked for), not merely the first (where the crank may be
+    unloaded)."""
+    import numpy as np
+
+    from crankdyn.physics.crankshaft import dangerous_combinations
+
+    angle = np.radians(np.arange(0.0, 720.0, 1.0))
+    journal = np.abs(np.sin(3 * angle / 2))[None, :]  # peaks alike at 60°, 180°, 300°, ...
+    load = (1.0 + np.cos(angle - np.radians(300.0)))[None, :]  # the crank loaded near 300°
+    row = dangerous_combinations(load, load, load, journal)[0]
+    assert row["M"] == 300
+    # unequal peaks: the largest, whatever the load there
+    journal[0, 60] *= 1.01
+    assert dangerous_combinations(load, load, load, journal)[0]["M"] == 60

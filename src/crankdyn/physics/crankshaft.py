@@ -78,16 +78,22 @@ def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_P
 
     Returns a list per crank of dicts {"Z": i, "T": i, "Q": i, "M": i} (indices on the grid).
     The largest positive z (towards the shaft: gas load) and t, the largest q and the largest
-    |t_k| are the textbook's criteria.
+    |t_k| are the textbook's criteria. The journal torque of an even-firing engine repeats within
+    the cycle, so |t_k| peaks alike at several angles: of those, the one where the crank's own
+    load q is largest (the combination the crank's strength is checked for).
     """
     out = []
     for k in range(np.shape(radial_Pa)[0]):
+        torque = np.abs(np.asarray(journal_torque_Pa[k], dtype=float))
+        # peaks equal but for rounding: relative 1e-9 of the largest
+        alike = np.flatnonzero(torque >= torque.max() * (1.0 - 1e-9))
+        loads = np.asarray(resultant[k], dtype=float)[alike]
         out.append(
             {
                 "Z": first_argmax(radial_Pa[k]),
                 "T": first_argmax(tangential_Pa[k]),
                 "Q": first_argmax(resultant[k]),
-                "M": first_argmax(np.abs(journal_torque_Pa[k])),
+                "M": int(alike[first_argmax(loads)]),
             }
         )
     return out
