@@ -157,7 +157,9 @@ def _bank_letters_text(r: dict, t) -> str:
     if not letters or not all(t.has("bays.bank_" + x) for x in letters):
         return ""
     ordered = sorted(letters, key="LCR".index)
-    return t("bays.bank_letters", letters=", ".join(t("bays.bank_" + x) for x in ordered))
+    # a one-crank shaft has no "free end": its ends are named by what is there
+    key = "bays.bank_letters" + ("_one_crank" if r["cranks"] == 1 else "")
+    return t(key, letters=", ".join(t("bays.bank_" + x) for x in ordered))
 
 
 def _master_cylinder_text(r: dict, t) -> str:
