@@ -320,6 +320,10 @@ def test_fork_and_blade_rods_are_said_to_make_no_couple():
             words in page
             and "центральн" + ("ый шатун" if language == "ru" else "ий шатун") not in page
         )
+    # one rod mass is given: the fork rod and the blade rod are said to be taken alike
+    bays = shared_html("v8-petrol", fork, "en", ("bays",)).linked_html
+    assert "The fork rod and the blade rod are taken alike" in bays
+    assert "taken alike" not in shared_html("v8-petrol", None, "en", ("bays",)).linked_html
 
 
 def test_an_offset_engines_second_order_vectors_stand_at_twice_its_cranks_angle():
