@@ -274,4 +274,7 @@ def test_a_course_note_says_in_one_sentence_what_the_assignment_gives_no_data_fo
     for stage, reason in left_out.items():
         title = t(REGISTRY.stages[stage].presentation.title_key)
         assert title[1:] in sentence and sentence.count(str(escape(reason))) == 1, (stage, reason)
+    # what the note takes instead of the rod's dynamics, not only what it lacks
+    assert "rod_dynamics" in left_out
+    assert "the rod is taken as two masses at the axes of its eyes" in sentence
     assert '<p class="skipped">' not in course_html("kinematics-only")
