@@ -466,3 +466,17 @@ def test_a_given_ignition_delay_is_not_said_to_be_taken_from_the_textbook():
     taken = _text(shared_html("diesel-1cyl", left_out, "en", ("indicator",)).linked_html)
     assert "The ignition delay follows the textbook [1, §3.1]" in taken
     assert "with τ i = 1.5 ms." in taken and "the given τ" not in taken
+
+
+def test_a_boxer_twins_cylinders_lie_left_and_right_not_in_banks():
+    """A flat twin has one cylinder on each side: not "the odd-numbered cylinders lie in the left
+    bank", which a boxer of four or more says; a balance shaft's table row sets its participle
+    off with commas (uk)."""
+    twin = {"engine": {"layout": "boxer", "cylinders": 2, "firing_order": [1, 2]}}
+    text = _text(shared_html("inline4-petrol", twin, "en", ("bays",)).linked_html)
+    assert "cylinder 1 lies on the left, cylinder 2 opposite it on the right" in text
+    assert "odd-numbered" not in text and "bank" not in text
+    four = _text(shared_html("v8-petrol", _boxer_changes(), "en", ("bays",)).linked_html)
+    assert "the odd-numbered cylinders lie in the left bank" in four
+    uk = _text(shared_html("inline4-petrol", twin, "uk", ("balancing",)).linked_html)
+    assert "вала 1-го порядку, що обертається назустріч колінчастому валу," in uk
