@@ -164,3 +164,43 @@ def test_a_journal_torque_that_peaks_alike_twice_takes_the_crank_most_loaded_the
     # unequal peaks: the largest, whatever the load there
     journal[0, 60] *= 1.01
     assert dangerous_combinations(load, load, load, journal)[0]["M"] == 60
+
+
+#: A 4Ч 9,2/8,6 four firing 1-2-4-3 at a high peak pressure: the running torque's amplitude is
+#: largest on journal 3-4, its magnitude on the last journal.
+_AMPLITUDE_BEFORE_THE_END = {
+    "engine": {
+        "firing_order": [1, 2, 4, 3],
+        "rpm": 5200,
+        "bore": "92 mm",
+        "stroke": "86 mm",
+        "rod_ratio": None,
+        "rod_length": "145 mm",
+    },
+    "masses": {"piston_group": "0.66 kg", "rod": "0.84 kg"},
+    "cycle": {"max_pressure": "8.5 MPa", "compression_ratio": 9.3},
+}
+
+
+def test_the_running_torque_is_said_to_grow_towards_the_flywheel_only_where_its_amplitude_does():
+    """ "the running torque grows towards the flywheel" held for the journals' largest magnitudes
+    while the amplitude (M_max − M_min)/2, which a fatigue check of a journal takes, was largest
+    on journal 3–4: the section then names that journal and amplitude, and does not say it grows."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    changes = _AMPLITUDE_BEFORE_THE_END
+    journals = shared_run("inline4-petrol", changes, ("torque",)).outputs["torque"].results
+    journals = journals["journals"]
+    widest = max(range(len(journals)), key=lambda k: journals[k]["amplitude_Nm"])
+    largest = max(range(len(journals)), key=lambda k: journals[k]["max_abs_Nm"])
+    assert widest == 2 and largest == 3  # journal 3–4 against 4–5
+    page = shared_html("inline4-petrol", changes, "en", ("torque",)).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", page).split())
+    amplitude = f"{journals[widest]['amplitude_Nm']:.1f}"
+    assert f"= {amplitude} N·m, which a fatigue check of a journal takes, is on the journal" in text
+    assert "after crank 3." in text and "grows towards the flywheel" not in text
+    # where both grow, it is said as before
+    plain = shared_html("inline4-petrol", None, "en", ("torque",)).linked_html
+    assert "grows towards the flywheel" in plain and "fatigue check of a journal" not in plain
