@@ -782,7 +782,7 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     text = as_read(
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLYING_FLAT_FOUR, "ru").linked_html)
     )
-    section = "неуравновешенными ΣMII, ΣMIV вызывают колебания двигателя на упругих опорах"
+    section = "неуравновешенными ΣMII, ΣMIV вызывают колебания двигателя на его опорах"
     assert text.count(section) == 2  # in the section and in the conclusions
     assert text.count("гасит амортизированная подмоторная рама") == 2
     assert "Уравновешивающие валы второго порядка не предусмотрены" not in text
@@ -1297,7 +1297,8 @@ def test_the_internal_moments_of_the_centrifugal_forces_are_given_with_their_val
     assert not r["counterweights"] and not r["balance_shafts"]
     page = text("inline4-petrol", none)
     moment = f"{r['internal_moment_Nm']:.4g}"  # C·a, to four digits
-    assert "No balancing means are fitted" in page
+    # scoped to the free forces: the internal moments' counterweights are advised just after
+    assert "No means balancing the free forces and moments are fitted" in page
     assert "Counterweights on the webs of every crank would relieve them" in page
     conclusions = page[page.rindex("Conclusions") :]
     assert (
