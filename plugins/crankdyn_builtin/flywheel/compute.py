@@ -215,8 +215,9 @@ def lower_speeds(scene, torque, gas, total_inertia_kg_m2: float, required, irreg
     and the same J at :data:`LOWER_SPEED_FRACTIONS` of the scene's speed
     (:func:`fw.excess_work_at_speed_J`), and the highest speed below the scene's at which δ
     reaches the ``required`` one (scanned down in steps of 1 % of the speed to a tenth of it,
-    interpolated between the two steps about [δ], to three significant digits; None if it does not, if δ at the given speed, ``irregularity``,
-    meets [δ] only just, or none is required); both None without a gas torque."""
+    interpolated between the two steps about [δ], to three significant digits; None if it does
+    not, if δ at the given speed, ``irregularity``, meets [δ] only just, or none is required);
+    both None without a gas torque."""
     if gas is None:
         return {"lower_speeds": None, "required_irregularity_reached_rpm": None}
     omega = torque.angular_velocity_rad_s
