@@ -183,9 +183,9 @@ _AMPLITUDE_BEFORE_THE_END = {
 
 
 def test_the_running_torque_is_said_to_grow_towards_the_flywheel_only_where_its_amplitude_does():
-    """ "the running torque grows towards the flywheel" held for the journals' largest magnitudes
-    while the amplitude (M_max − M_min)/2, which a fatigue check of a journal takes, was largest
-    on journal 3–4: the section then names that journal and amplitude, and does not say it grows."""
+    """The journals' largest magnitudes may grow towards the flywheel while the amplitude
+    (M_max − M_min)/2, which a fatigue check of a journal takes, is largest on journal 3–4: the
+    section then names that journal and amplitude, and does not say the running torque grows."""
     import re
 
     from conftest import shared_html, shared_run
