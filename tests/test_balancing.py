@@ -805,6 +805,8 @@ def test_an_engine_left_with_a_second_order_moment_by_default_says_why_it_has_no
     car = {**FLAT_FOUR, "balancing": None}
     r = shared_run("inline4-petrol", car, ("balancing",)).outputs["balancing"].results
     assert r["residual"]["balanced_orders"] == [1] and not r["balance_shafts"]
+    # a radial's balancer takes the second order with the first, by default too
+    assert balancing("radial9-aircraft")["residual"]["balanced_orders"] == [1, 2]
     left = {s["quantity"] for s in r["summary"] if not s["balanced"]}
     assert left == {"M_PII", "M_PIV", "M_PVI"}
     page = shared_html("inline4-petrol", car, "ru", ("balancing",)).linked_html
