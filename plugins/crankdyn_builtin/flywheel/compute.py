@@ -227,7 +227,7 @@ def lower_speeds(scene, torque, gas, total_inertia_kg_m2: float, required, irreg
     # the rows' speeds and every 1 % of the speed from 99 % down to 10 %, at once
     fractions = np.concatenate([LOWER_SPEED_FRACTIONS, np.arange(99, 9, -1) / 100])
     excess = fw.excess_work_at_speed_J(alpha, gas, inertia, fractions)
-    deltas = excess / (total_inertia_kg_m2 * (fractions * omega) ** 2)  # fw.cyclic_irregularity
+    deltas = fw.cyclic_irregularity(excess, total_inertia_kg_m2, fractions * omega)
     count = len(LOWER_SPEED_FRACTIONS)
     rows = [
         {

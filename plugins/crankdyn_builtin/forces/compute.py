@@ -128,7 +128,7 @@ def _offset_side_force(motion, curves: dict, strokes: int) -> dict:
     alpha = np.asarray(motion.crank_angle_rad, dtype=float)
     total = np.asarray(curves["total_Pa"], dtype=float)
     side = total * np.tan(np.asarray(motion.rod_angle_rad, dtype=float))
-    central = total * np.tan(np.arcsin(motion.extra["rod_ratio"] * np.sin(alpha)))
+    central = total * np.tan(kin.rod_angle_rad(alpha, motion.extra["rod_ratio"]))
     firing = 360.0 if strokes == 4 else 0.0  # the cycle starts at the intake TDC (four-stroke)
     bdc = float(motion.extra.get("bdc_crank_angle_deg", 180.0))
     angle = np.degrees(alpha)
