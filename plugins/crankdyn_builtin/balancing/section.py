@@ -677,22 +677,21 @@ def second_order_left_by_default(ctx, r) -> str:
         return ""
     if 2 in (r.get("residual") or {}).get("balanced_orders", ()):
         return ""
-    if not any(
-        s["order"] == 2 and not s["balanced"] and not _negligible(r, s) for s in r["summary"]
-    ):
+    if not _second_order_items(r):
         return ""
     return "balancing.no_shafts_aircraft" if flies_without_shafts(scene) else "balancing.no_shafts"
 
 
+def _second_order_items(r) -> list:
+    """The second-order resultants the cranks leave that are not negligible."""
+    return [
+        s for s in r["summary"] if s["order"] == 2 and not s["balanced"] and not _negligible(r, s)
+    ]
+
+
 def _second_order_left(t, r) -> str:
-    """ "ΣP_II and ΣM_II": the second-order resultants left that are not negligible."""
-    return t.join_and(
-        [
-            plain_symbol(s)
-            for s in r["summary"]
-            if s["order"] == 2 and not s["balanced"] and not _negligible(r, s)
-        ]
-    )
+    """ "ΣP_II and ΣM_II": :func:`_second_order_items` by their symbols."""
+    return t.join_and([plain_symbol(s) for s in _second_order_items(r)])
 
 
 #: A pulsating moment whose plane lies within this angle of the vertical (the horizontal) is said
