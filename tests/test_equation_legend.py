@@ -290,22 +290,37 @@ def test_the_flywheel_equations_explain_their_own_quantities(uk):
     assert line.index("ωmax –") < line.index("ωmin –") < line.index("ΔL –")
 
 
-def test_a_symbol_pattern_finds_its_markup_only_where_it_means_that_symbol():
-    """The markup, not after a Δ nor a given text, and a bare symbol not followed by a subscript:
-    the positions found are those of the conditions written as look-behinds in front."""
+def test_a_symbol_finder_finds_its_markup_only_where_it_means_that_symbol():
+    """The markup, not after a Δ nor a given text, a bare symbol not followed by a subscript nor
+    a prime, not in brackets of its own: the positions those conditions, written as a regular
+    expression, find."""
     import re
 
-    from crankdyn.report.typeset import symbol_html, symbol_pattern
+    from crankdyn.report.typeset import symbol_finder, symbol_html
 
     bare = symbol_html("crank_angular_velocity", "uk")  # <i>ω</i>
-    text = f"{bare} = Δ{bare}; <b>{bare}</b>, {bare}<sub>ш</sub>, {bare}′ {bare}"
-    pattern = symbol_pattern("crank_angular_velocity", "uk", not_after=("<b>",), tail="(?![′″])")
-    found = [m.start() for m in re.finditer(pattern, text)]
+    text = (
+        f"{bare} = Δ{bare}; <b>{bare}</b>, {bare}<sub>ш</sub>, {bare}′ [{bare}] [{bare} + 1] {bare}"
+    )
+    finder = symbol_finder("crank_angular_velocity", "uk", not_after=("<b>",))
     expected = [
         m.start()
-        for m in re.finditer("(?<!Δ)(?<!<b>)" + re.escape(bare) + "(?!<sub>)(?![′″])", text)
+        for m in re.finditer(
+            "(?<!Δ)(?<!<b>)(?<!Σ)"
+            + re.escape(bare)
+            + r"(?!<sub>)(?![′″])(?!(?<=\["
+            + re.escape(bare)
+            + r")\])",
+            text,
+        )
     ]
-    assert found == expected == [0, len(text) - len(bare)]
+    assert list(finder.positions(text)) == expected
+    assert expected == [0, text.index("[" + bare + " +") + 1, len(text) - len(bare)]
+    assert finder.found_in(text) and not finder.found_in(f"Δ{bare}, [{bare}]")
+    # a symbol with its own subscript may be followed by one of its formula (no bare-symbol rule)
+    sub = symbol_finder("rod_angular_velocity", "uk")
+    rod = symbol_html("rod_angular_velocity", "uk")
+    assert list(sub.positions(f"{rod}<sub>x</sub> Σ{rod}")) == [0]
 
 
 def test_a_dotted_letter_is_not_the_letter():

@@ -22,11 +22,12 @@ from markupsafe import escape
 
 from .typeset import (
     SYMBOLS,
+    SymbolFinder,
     SymbolTable,
     italic_letters,
     sections_taking_over,
+    symbol_finder,
     symbol_html,
-    symbol_pattern,
     unit_text,
     unshifted_indices,
 )
@@ -45,12 +46,10 @@ _SECTIONS_NOTE = re.compile(r"\s*\([^()]*\)\s*$")
 def _patterns(
     language: str, symbols: SymbolTable
 ) -> tuple[tuple[str, str, bool, tuple[str, ...], tuple[str, ...]], ...]:
-    """(key, markup, bare, only in sections, not in sections) per symbol; its pattern is
-    :func:`_pattern`'s (compiled when a formula shows the markup: a report shows a third of the
-    symbols, and compiling them all took 40 ms). The pattern is the symbol
-    table's (:func:`~crankdyn.report.typeset.symbol_pattern`), and here a primed symbol (p_i′) or a
-    bold one (a vector or a matrix: R_j, q_ш.ш) is another quantity; ``bare``: no subscript of its
-    own. A symbol without sections is not read in the sections where another of the same markup
+    """(key, markup, bare, only in sections, not in sections) per symbol; where a formula shows
+    it is :func:`_finder`'s (:class:`~crankdyn.report.typeset.SymbolFinder`: a primed symbol,
+    p_i′, is another quantity, and here a bold one too, a vector or a matrix: R_j, q_ш.ш);
+    ``bare``: no subscript of its own. A symbol without sections is not read in the sections where another of the same markup
     takes over. Kept per table (a table is hashed by its contents)."""
     taken_over = sections_taking_over(symbols, language)
     out = []
@@ -69,13 +68,11 @@ def _patterns(
 
 
 @functools.lru_cache(maxsize=4096)
-def _pattern(key: str, language: str, symbols: SymbolTable) -> re.Pattern:
+def _finder(key: str, language: str, symbols: SymbolTable) -> SymbolFinder:
     # an upright letter (the imaginary unit j) is not the italic one (the acceleration j_p)
     upright = "<i>" not in symbol_html(key, language, symbols)
     not_after = ("<b>", "<i>") if upright else ("<b>",)
-    return re.compile(
-        symbol_pattern(key, language, not_after=not_after, tail="(?![′″])", symbols=symbols)
-    )
+    return symbol_finder(key, language, not_after=not_after, symbols=symbols)
 
 
 _SCRIPT = re.compile(r"<(sub|sup)>.*?</\1>", re.S)
@@ -102,9 +99,9 @@ def symbols_in(
     for key, markup, bare, only_in, not_in in _patterns(language, symbols):
         if (only_in and stage not in only_in) or stage in not_in or markup not in formula_html:
             continue
-        for match in _pattern(key, language, symbols).finditer(formula_html):
-            if not (bare and any(start < match.start() < end for start, end in scripts)):
-                found.append((match.start(), key))
+        for position in _finder(key, language, symbols).positions(formula_html):
+            if not (bare and any(start < position < end for start, end in scripts)):
+                found.append((position, key))
                 break
     return [key for _, key in sorted(found)]
 

@@ -18,7 +18,7 @@ import functools
 import math
 import re
 from collections.abc import Iterable, Iterator, Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -684,30 +684,58 @@ def symbol_html(key: str, language: str, symbols: SymbolTable = SYMBOLS) -> str:
     return f"<i>{s.base}</i><sub>{sub}</sub>" if sub else f"<i>{s.base}</i>"
 
 
-def symbol_pattern(
-    key: str,
-    language: str,
-    not_after: tuple[str, ...] = (),
-    tail: str = "",
-    symbols: SymbolTable = SYMBOLS,
-) -> str:
-    """The regular expression of symbol ``key``'s markup: not after a Δ (ΔL is not L, unless the
-    symbol is the Δ one) nor after any of ``not_after``, and a symbol without a subscript not
-    followed by one (ω is not ω_ш); ``tail``: a further look-ahead condition.
+#: Marks after a symbol that make it another quantity (a primed p_i′ is not p_i).
+PRIMES = ("′", "″")
 
-    The markup comes first and the look-behinds after it (each reaching back over the markup):
-    the search then looks for the markup's text, where a pattern that opens with a look-behind is
-    tried at every character of a report (≈ 45 ms of a report's rendering for its symbol list)."""
+
+@dataclass(frozen=True)
+class SymbolFinder:
+    """Where a symbol's markup stands for that symbol: not after a Δ or Σ (ΔL is a difference,
+    not L, unless the symbol is the Δ one) nor after any text of ``not_after``; not followed by
+    a prime (p_i′ is another quantity); a symbol without a subscript not followed by one (ω is
+    not ω_ш); not in brackets of its own ([δ] is an allowed value, "[λ_p(ρ − 1) …]" is the
+    quantity). Plain string searches: the report looks for some 200 symbols, and a regular
+    expression each cost more to compile than the searches take."""
+
+    markup: str
+    before: tuple[str, ...]
+    bracketed: bool  # whether "[markup]" may be the quantity (a symbol written with brackets)
+    subscripted: bool
+
+    def positions(self, text: str) -> Iterator[int]:
+        """The start of each occurrence of the symbol in ``text``, left to right, none
+        overlapping."""
+        markup, size = self.markup, len(self.markup)
+        start = text.find(markup)
+        while start >= 0:
+            end = start + size
+            if (
+                any(text.endswith(sign, 0, start) for sign in self.before)
+                or text.startswith(PRIMES, end)
+                or (not self.subscripted and text.startswith("<sub>", end))
+                or (
+                    not self.bracketed
+                    and text.endswith("[", 0, start)
+                    and text.startswith("]", end)
+                )
+            ):
+                start = text.find(markup, start + 1)
+                continue
+            yield start
+            start = text.find(markup, end)
+
+    def found_in(self, text: str) -> bool:
+        return next(self.positions(text), None) is not None
+
+
+def symbol_finder(
+    key: str, language: str, not_after: tuple[str, ...] = (), symbols: SymbolTable = SYMBOLS
+) -> SymbolFinder:
+    """The :class:`SymbolFinder` of symbol ``key``'s markup, also not after any of ``not_after``."""
     markup = symbol_html(key, language, symbols)
-    literal = re.escape(markup)
     # after Δ a difference, after Σ a sum: other quantities
     before = (*not_after, *(sign for sign in ("Δ", "Σ") if not markup.startswith(sign)))
-    checks = "".join(f"(?<!{re.escape(text)}{literal})" for text in before)
-    # in brackets of its own an allowed value ([δ]), not the quantity ("[λ_p(ρ − 1) …]" is)
-    if not markup.startswith("["):
-        checks += rf"(?!(?<=\[{literal})\])"
-    tail = tail if "<sub>" in markup else "(?!<sub>)" + tail
-    return literal + checks + tail
+    return SymbolFinder(markup, before, markup.startswith("["), "<sub>" in markup)
 
 
 #: A subscript index shifted by one (``l″_{i+1}``, ``t_{k(i−1)}``): the same quantity as at index i.
@@ -798,17 +826,15 @@ def symbols_used(html: str, language: str, symbols: SymbolTable = SYMBOLS) -> li
         if not text or symbol_html(key, language, table) not in text:
             continue
         # a primed letter (z′_B, p_i′) is another quantity, as the where-lines read it
-        pattern = symbol_pattern(key, language, tail="(?![′″])", symbols=table)
-        if _compiled(pattern).search(text):
+        if _finder(key, language, table).found_in(text):
             used.append(key)
     return sorted(used, key=lambda k: _alphabetical(k, language, table))
 
 
 @functools.lru_cache(maxsize=4096)
-def _compiled(pattern: str) -> re.Pattern:
-    """A symbol's pattern compiled once a process (a report has some 200 of them, more than the
-    ``re`` module's own cache keeps across reports of a batch)."""
-    return re.compile(pattern)
+def _finder(key: str, language: str, symbols: SymbolTable) -> SymbolFinder:
+    """A symbol's finder made once a process (a table is hashed by its contents)."""
+    return symbol_finder(key, language, symbols=symbols)
 
 
 def _alphabetical(key: str, language: str, symbols: SymbolTable) -> tuple:
