@@ -787,7 +787,9 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     assert text.count("гасит амортизированная подмоторная рама") == 2
     assert "Уравновешивающие валы второго порядка не предусмотрены" not in text
     # the abstract names what the cranks balance and what they leave, with the values
-    assert "схема колен уравновешивает ΣC, ΣMC, ΣPI, ΣMI, ΣPII, ΣPIV и ΣPVI; " in text
+    # the opposed cylinders balance with the cranks: the engine's scheme, not its cranks'
+    assert "схема двигателя уравновешивает ΣC, ΣMC, ΣPI, ΣMI, ΣPII, ΣPIV и ΣPVI; " in text
+    assert "уравновешивает схема колен" not in text and "уравновешено схемой колен" not in text
     assert re.search(r"неуравновешенными остаются ΣMII = \d+,\d\sН·м, ΣMIV = ", text)
     # a free moment is left: the note no longer says that the cranks balance every one of them
     assert "Свободные силы и моменты двигателя взаимно уравновешены" not in text

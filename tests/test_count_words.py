@@ -84,3 +84,35 @@ def test_a_variant_key_is_said_for_an_engine_of_that_variant():
     assert aircraft("fw.row") == "propeller"  # only the English catalog has it
     assert aircraft("fw.aim_propeller") == "account for the propeller"  # chosen by hand: kept
     assert aircraft("fw.other") == "fw.other" and "fw.other" in aircraft.missing
+
+
+def test_a_term_in_a_text_is_said_as_the_engines_variant_words_it():
+    """``{=key}`` in a text is that key's text, of the first of the engine's variants a catalog
+    gives: a boxer's forces are balanced by the engine's scheme, an in-line engine's by its cranks'."""
+    texts = {
+        "b.remedy": "зрівноважено схемою {=b.of} ({n@коліно|коліна|колін|коліна})",
+        "b.of": "колін",
+        "b.of_banked": "двигуна",
+        "b.row_propeller": "гвинт",
+    }
+    inline = Translator("uk", texts, {})
+    boxer = Translator("uk", texts, {}, variant=("propeller", "banked"))
+    assert inline("b.remedy", n=2) == "зрівноважено схемою колін (коліна)"
+    assert boxer("b.remedy", n=5) == "зрівноважено схемою двигуна (колін)"
+    assert boxer("b.row") == "гвинт" and boxer("b.of") == "двигуна"
+    assert not boxer.missing - {"b.row"}
+
+
+def test_a_boxer_v_and_radial_are_banked_and_an_in_line_engine_is_not():
+    from types import SimpleNamespace
+
+    from crankdyn.report.document import text_variant
+
+    def variants(layout, cylinders=2, application="automotive"):
+        engine = SimpleNamespace(layout=layout, cylinders=cylinders, application=application)
+        return text_variant(SimpleNamespace(engine=engine))
+
+    assert variants("inline", 6) == () and variants("inline", 1) == ()
+    assert variants("boxer") == variants("V", 8) == variants("radial", 9) == ("banked",)
+    assert variants("radial", 9, "aircraft") == ("propeller", "banked")
+    assert variants("inline", 4, "aircraft") == ("propeller",)

@@ -408,7 +408,7 @@ def test_a_boxers_balance_shafts_are_said_to_take_the_second_order_couple_only()
     means = "вони зрівноважують момент сил інерції другого порядку (Σ M II )"
     assert means in text[text.rindex("Висновки") :]
     assert "Σ M II 2,0000 незрівноважено два зрівноважувальні вали з противагами на кінцях" in text
-    scheme = "Схема колін сама зрівноважує відцентрові сили та їхній момент"
+    scheme = "Схема двигуна сама зрівноважує відцентрові сили та їхній момент"
     assert scheme in text
     # no counterweights fitted: none described, none of their radius taken
     for words in (

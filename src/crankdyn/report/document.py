@@ -504,10 +504,18 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     return tuple(forms)
 
 
-def text_variant(scene) -> str | None:
-    """The variant of the catalogs' texts for ``scene``'s engine (:class:`Translator`): an
-    aircraft engine's propeller takes the flywheel's part."""
-    return "propeller" if getattr(scene.engine, "application", None) == "aircraft" else None
+def text_variant(scene) -> tuple[str, ...]:
+    """The variants of the catalogs' texts for ``scene``'s engine (:class:`Translator`): an
+    aircraft engine's propeller takes the flywheel's part (``"propeller"``); a V, W, Y, X,
+    boxer or radial engine, whose cylinders lie in more than one plane, is balanced by the
+    arrangement of its cylinders and cranks, not of its cranks alone (``"banked"``)."""
+    variants = []
+    if getattr(scene.engine, "application", None) == "aircraft":
+        variants.append("propeller")
+    engine = scene.engine
+    if getattr(engine, "layout", "inline") != "inline" and getattr(engine, "cylinders", 1) > 1:
+        variants.append("banked")
+    return tuple(variants)
 
 
 def _cranks(scene) -> int | None:

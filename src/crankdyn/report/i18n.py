@@ -37,6 +37,10 @@ _PLURAL = re.compile(r"\{(\w+)@([^{}]*)\}")
 #: language's ``numerals.<form>`` ("m_nom": "шість циліндрів", "n_loc": "на трьох колінах");
 #: any other number in digits, as ``{n}``.
 _NUMERAL = re.compile(r"\{(\w+)#(\w+)\}")
+#: ``{=key}`` in a catalog text: the text of catalog key ``key`` (a term whose wording depends on
+#: the engine, through the translator's variants: "схема колін" of an in-line engine, "схема
+#: двигуна" where the cylinders lie in several planes).
+_TERM = re.compile(r"\{=([\w.]+)\}")
 _CATEGORIES = ("zero", "one", "two", "few", "many", "other")
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
@@ -108,23 +112,23 @@ _BANKED_LABEL = re.compile(r"(\d+)([A-Z])")
 class Translator:
     """Looks texts up in one language, falling back to English; records misses.
 
-    ``variant``: the engine's variant of the texts (``"propeller"`` for an aircraft engine,
-    whose propeller takes the flywheel's part): a key ``<key>_<variant>`` a catalog gives is
-    said instead of ``<key>``, so that a plugin words its texts for such an engine by adding
-    keys, without choosing them in code."""
+    ``variant``: the engine's variants of the texts, in order of preference (``"propeller"`` for
+    an aircraft engine, whose propeller takes the flywheel's part; ``"banked"`` where the
+    cylinders lie in more than one plane): a key ``<key>_<variant>`` a catalog gives is said
+    instead of ``<key>``, the first variant that has one, so that a plugin words its texts for
+    such an engine by adding keys, without choosing them in code. A text may name a term,
+    ``{=key}``, said in the same way."""
 
     language: str
     # left out of the repr: an error message naming the translator stays one line
     texts: dict[str, str] = field(repr=False)
     fallback: dict[str, str] = field(repr=False)
     missing: set[str] = field(default_factory=set)
-    variant: str | None = None
+    variant: str | tuple[str, ...] | None = None
 
     def __call__(self, key: str, **params) -> str:
         if self.variant is not None:
-            own = f"{key}_{self.variant}"
-            if own in self.texts or own in self.fallback:
-                key = own
+            key = self._variant_key(key)
         text = self.texts.get(key)
         if text is None:
             text = self.fallback.get(key)
@@ -133,11 +137,22 @@ class Translator:
                 return key
             if self.language != FALLBACK:
                 self.missing.add(key)
+        if "{=" in text:
+            text = _TERM.sub(lambda m: self(m.group(1)), text)  # a term is plain words
         if params and "@" in text:
             text = _PLURAL.sub(lambda m: self.plural_word(params.get(m.group(1)), m.group(2)), text)
         if params and "#" in text:
             text = _NUMERAL.sub(lambda m: self.count_words(params[m.group(1)], m.group(2)), text)
         return text.format(**params) if params else text
+
+    def _variant_key(self, key: str) -> str:
+        """``<key>_<variant>`` of the first variant a catalog gives, else ``key``."""
+        variants = (self.variant,) if isinstance(self.variant, str) else self.variant or ()
+        for variant in variants:
+            own = f"{key}_{variant}"
+            if own in self.texts or own in self.fallback:
+                return own
+        return key
 
     def count_words(self, value, form: str = "m_nom") -> str:
         """``value`` in words where it is a whole number from one to nine, in the grammatical
@@ -305,7 +320,9 @@ def _as_number(value) -> float | None:
 
 
 def translator(
-    language: str, plugin_catalogs: Iterable[Catalog] = (), variant: str | None = None
+    language: str,
+    plugin_catalogs: Iterable[Catalog] = (),
+    variant: str | tuple[str, ...] | None = None,
 ) -> Translator:
     """Build the translator for ``language`` from core and plugin catalogs (``variant``: see
     :class:`Translator`)."""
