@@ -13,9 +13,9 @@ from conftest import as_read, shared_html
 #: A two-stroke's gas exchange, per language.
 SCAVENGING = {"en": "scavenging", "uk": "продування", "ru": "продувк"}
 PUMPING_ALREADY = {
-    "en": "already includes the pumping strokes",
-    "uk": "насосні ходи в ній уже враховано",
-    "ru": "насосные ходы в ней уже учтены",
+    "en": "of which the pumping strokes make",
+    "uk": "з неї насосні ходи дають",
+    "ru": "из неё насосные ходы дают",
 }
 
 
@@ -242,8 +242,9 @@ def test_the_english_negligible_orders_read_as_a_sentence():
 
 
 def test_a_boosted_engines_mechanical_efficiency_names_the_pumping_gain():
-    """p_a > p_r: the pumping strokes gain work, which the indicated power includes; the note does
-    not call them mechanical losses there, as it does for a naturally aspirated engine."""
+    """p_a > p_r: the pumping strokes gain work (N_p > 0), which the indicated power includes and
+    the thermal calculation's leaves out; the note does not call them mechanical losses there, as
+    it does for a naturally aspirated engine (N_p < 0)."""
     import re
 
     from conftest import shared_html
@@ -254,8 +255,14 @@ def test_a_boosted_engines_mechanical_efficiency_names_the_pumping_gain():
     }
     page = shared_html("inline4-petrol", boosted, "en", ("torque",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page)).replace("&#39;", "'")
-    assert "already includes the pumping strokes' gain of the boosted engine" in text
+    assert re.search(
+        r"of which the pumping strokes make N ?p = \d+\.\d+ kW \(the boosted engine's gain", text
+    ), text
     plain = {"engine": {"effective_power": "60 kW"}}
     page = shared_html("inline4-petrol", plain, "en", ("torque",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page))
-    assert "which the thermal calculation counts among the mechanical losses" in text
+    assert re.search(
+        r"of which the pumping strokes make N ?p = −\d\.\d+ kW \(the thermal calculation counts them"
+        r" among the mechanical losses",
+        text,
+    ), text

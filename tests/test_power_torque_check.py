@@ -29,11 +29,16 @@ def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(
 
 
 def test_effective_output_against_the_indicated_one():
-    """η_m = N_e/N_i and M_e = N_e/ω: at 6000 rpm (ω = 200π) 50 kW effective of 62.5 kW
-    indicated is η_m = 0.8 and M_e = 50 000/(200π) = 79.577 N·m; a motored N_i ≤ 0 has no η_m."""
+    """η_m = N_e/(N_i − N_p) and M_e = N_e/ω: at 6000 rpm (ω = 200π) 50 kW effective of 62.5 kW
+    indicated is η_m = 0.8 and M_e = 50 000/(200π) = 79.577 N·m; with pumping strokes that take
+    1.25 kW of those 62.5 kW the thermal calculation's N_i is 63.75 kW and η_m = 50/63.75; a
+    motored N_i ≤ 0 has no η_m."""
     out = cs.effective_output(62500.0, 50000.0, 200 * math.pi)
     assert out["mechanical_efficiency"] == pytest.approx(0.8, rel=1e-15)
     assert out["mean_effective_torque_Nm"] == pytest.approx(79.57747154594767, rel=1e-12)
+    pumped = cs.effective_output(62500.0, 50000.0, 200 * math.pi, pumping_power_W=-1250.0)
+    assert pumped["mechanical_efficiency"] == pytest.approx(50 / 63.75, rel=1e-15)
+    assert pumped["mean_effective_torque_Nm"] == out["mean_effective_torque_Nm"]
     assert cs.effective_output(-1.0, 50000.0, 100.0)["mechanical_efficiency"] is None
 
 
@@ -42,9 +47,10 @@ def test_effective_output_against_the_indicated_one():
     [("inline4-petrol", "torque", 55e3), ("petrol-1cyl-uk", "forces", 13.5e3)],
 )
 def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example, stage, n_e_W):
-    """The scene's N_e (engine.effective_power) against N_i from the indicator work: η_m = N_e/N_i
-    with N_i = W_i·i·n/(60·τ/2), and M_e = η_m·M_i with M_i = W/(2π·τ/2), the mean torque from
-    the work (the same ω on both sides); the report's sentence prints them."""
+    """The scene's N_e (engine.effective_power) against N_i from the indicator work without its
+    pumping strokes, as the thermal calculation's: η_m = N_e/(N_i − N_p) with
+    N_i = W_i·i·n/(60·τ/2) and N_p = W_p·i·n/(60·τ/2) (W_p the diagram's gas-exchange work, the
+    indicator stage's result), and M_e = N_e/ω; the report's sentence prints them."""
     from conftest import shared_html, shared_run
 
     result = shared_run(example)
@@ -52,11 +58,13 @@ def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example
     e = result.scene.engine
     work_all = result.outputs["torque"].results["mean_from_work_Nm"] * 2 * math.pi * e.strokes / 2
     n_i = work_all * e.rpm / 60 / (e.strokes / 2)
+    pumping = result.outputs["indicator"].results["pumping_work_J"]
+    assert pumping < 0  # a naturally aspirated four-stroke's strokes take work
+    n_p = pumping * e.cylinders * e.rpm / 60 / (e.strokes / 2)
     assert r["effective_power_W"] == n_e_W
-    assert r["mechanical_efficiency"] == pytest.approx(n_e_W / n_i, rel=1e-12)
-    assert r["mean_effective_torque_Nm"] == pytest.approx(
-        r["mechanical_efficiency"] * work_all / (2 * math.pi * e.strokes / 2), rel=1e-12
-    )
+    assert r["mechanical_efficiency"] == pytest.approx(n_e_W / (n_i - n_p), rel=1e-12)
+    assert r["mechanical_efficiency"] < n_e_W / n_i
+    assert r["mean_effective_torque_Nm"] == pytest.approx(n_e_W / (math.pi * e.rpm / 30), rel=1e-12)
     html = shared_html(example, language="uk").linked_html
     assert "механічний ККД <i>η</i><sub>м</sub>" in html
     assert "<i>N</i><sub>e</sub></td>" in html  # the given data's row

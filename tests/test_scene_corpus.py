@@ -152,19 +152,19 @@ BALANCING = {"en": r"balanc", "uk": r"зрівноваж", "ru": r"уравно�
 #: them), its constant-pressure exhaust and intake lines, its valve timing.
 FOUR_STROKE_ONLY = {
     "en": (
-        r"already includes the pumping strokes",
+        r"of which the pumping strokes make",
         r"without the pumping strokes",
         r"exhaust and intake lines at constant",
         r"intake valve timing",
     ),
     "uk": (
-        r"насосні ходи в ній уже враховано",
+        r"з неї насосні ходи дають",
         r"без насосних ходів",
         r"лінії випуску і впуску за сталого",
         r"фази газорозподілу",
     ),
     "ru": (
-        r"насосные ходы в ней уже учтены",
+        r"из неё насосные ходы дают",
         r"без насосных ходов",
         r"линии выпуска и впуска при постоянном",
         r"фазы газораспределения",

@@ -141,14 +141,17 @@ def _offset_side_force(motion, curves: dict, strokes: int) -> dict:
     }
 
 
-def _effective(engine, mean_torque_from_work_Nm: float) -> dict:
+def _effective(engine, gas) -> dict:
     """A single cylinder's N_e against its N_i (η_m, M_e), when the scene gives N_e; an engine of
     more cylinders has them in the torque section."""
     if engine.cylinders != 1 or engine.effective_power is None:
         return {}
-    omega = engine.angular_velocity_rad_s
+    cycles_per_s = engine.rpm / 60.0 / (engine.strokes / 2)
     return phys_crankshaft.effective_output(
-        mean_torque_from_work_Nm * omega, engine.effective_power, omega
+        gas.indicated_work_J * cycles_per_s,
+        engine.effective_power,
+        engine.angular_velocity_rad_s,
+        pumping_power_W=gas.pumping_work_J * cycles_per_s,
     )
 
 
@@ -382,7 +385,7 @@ def _forces_results(engine, motion, gas, curves: dict, masses, area: float, torq
         if np.max(np.abs(inertia_torque)) > 0
         else 0.0,
     }
-    results.update(_effective(engine, mean_from_work))
+    results.update(_effective(engine, gas))
     results.update(_offset_remainder(motion, curves, reciprocating, area))
     results.update(_offset_side_force(motion, curves, engine.strokes))
     return results

@@ -154,6 +154,7 @@ def run(
         indicated_work_J=results["indicated_work_J"],
         swept_volume_m3=swept,
         rounding=drawn,
+        pumping_work_J=results["pumping_work_J"],
     )
     return StageOutput(
         data={GAS_PRESSURE: gas}, results=results, tables={"indicator": table}, notes=notes

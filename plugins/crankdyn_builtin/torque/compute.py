@@ -65,13 +65,21 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         ],
         "dangerous": _dangerous_loads(bays, q, journal, angle),
     }
-    slaves = _slave_work(e, layout, work_all, inputs.get(GAS_PRESSURE))
+    gas = inputs.get(GAS_PRESSURE)
+    slaves = _slave_work(e, layout, work_all, gas)
     if slaves is not None:
         results["slave_work"] = slaves
     if e.effective_power is not None:
         results.update(
             cs.effective_output(
-                results["indicated_power_W"], e.effective_power, e.angular_velocity_rad_s
+                results["indicated_power_W"],
+                e.effective_power,
+                e.angular_velocity_rad_s,
+                # every cylinder's gas exchange as the diagram's (a slave cylinder's stroke differs
+                # a little from its master's; its pumping loop is not computed on its own)
+                pumping_power_W=0.0
+                if gas is None
+                else 1e3 * cs.indicated_power_kW(gas.pumping_work_J, e.cylinders, e.strokes, e.rpm),
             )
         )
     columns = _torque_columns(angle, bays, q, pin, journal, torque)

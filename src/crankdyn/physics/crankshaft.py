@@ -57,18 +57,41 @@ def torque_from_power_Nm(
 
 
 def effective_output(
-    indicated_power_W: float, effective_power_W: float, angular_velocity_rad_s: float
+    indicated_power_W: float,
+    effective_power_W: float,
+    angular_velocity_rad_s: float,
+    pumping_power_W: float = 0.0,
 ) -> dict:
     """The rated effective power N_e [W] (the thermal calculation's) against the indicated power
-    N_i [W] the indicator diagram gives: the mechanical efficiency η_m = N_e/N_i (None for an
-    N_i ≤ 0, a motored trace) and the mean effective torque M_e = N_e/ω = η_m M_i [N·m]
-    (M_i = N_i/ω, the mean indicated torque)."""
+    N_i [W] the indicator diagram gives.
+
+    Parameters
+    ----------
+    indicated_power_W : float
+        N_i of the diagram's whole indicated work, its pumping strokes included, W.
+    effective_power_W : float
+        N_e, W.
+    angular_velocity_rad_s : float
+        ω, rad/s.
+    pumping_power_W : float, default 0
+        N_p, the part of N_i the gas-exchange strokes make, W (negative where they take work:
+        a naturally aspirated four-stroke; zero for a two-stroke).
+
+    Returns
+    -------
+    dict
+        ``mechanical_efficiency``: η_m = N_e/(N_i − N_p), the mechanical efficiency as the
+        thermal calculation defines it, whose indicated power leaves the pumping strokes out and
+        whose mechanical losses take them in (Kolchin & Demidov; Heywood 1988, §2.4, the "gross"
+        indicated work); None for N_i − N_p ≤ 0 (a motored trace).
+        ``mean_effective_torque_Nm``: M_e = N_e/ω, N·m. ``pumping_power_W``: N_p as given.
+    """
+    gross = indicated_power_W - pumping_power_W
     return {
         "effective_power_W": effective_power_W,
         "indicated_power_W": indicated_power_W,
-        "mechanical_efficiency": effective_power_W / indicated_power_W
-        if indicated_power_W > 0
-        else None,
+        "pumping_power_W": pumping_power_W,
+        "mechanical_efficiency": effective_power_W / gross if gross > 0 else None,
         "mean_effective_torque_Nm": effective_power_W / angular_velocity_rad_s,
     }
 

@@ -76,6 +76,9 @@ class GasPressure:
     indicated_work_J: float
     swept_volume_m3: float
     rounding: RoundingParameters | None = None
+    #: the part of ``indicated_work_J`` done in the gas-exchange strokes, J (negative where they
+    #: take work; zero for a two-stroke): :func:`crankdyn.physics.indicator.pumping_work_J`
+    pumping_work_J: float = 0.0
 
 
 @dataclass(frozen=True)

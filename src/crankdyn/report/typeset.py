@@ -187,6 +187,9 @@ _CORE_SYMBOLS: dict[str, Symbol] = {
     "cycle_period": Symbol("T", {}, "unit.s", "symbol.cycle_period"),
     "indicated_power": Symbol("N", {"en": "i"}, "unit.kW", "symbol.indicated_power"),
     "effective_power": Symbol("N", {"en": "e"}, "unit.kW", "symbol.effective_power"),
+    "pumping_power": Symbol(
+        "N", {"en": "p", "uk": "нх", "ru": "нх"}, "unit.kW", "symbol.pumping_power"
+    ),
     "mechanical_efficiency": Symbol(
         "η", {"en": "m", "uk": "м", "ru": "м"}, "", "symbol.mechanical_efficiency"
     ),
