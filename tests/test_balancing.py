@@ -1190,7 +1190,7 @@ def test_a_single_cylinders_balance_shaft_beside_the_crankshaft_leaves_a_couple(
     html = shared_html("petrol-1cyl", single, "en", ("balancing",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)).replace("&#39;", "'")
     per = f"{r['first_order_N'] / 2 * 0.1:.1f}"
-    assert f"form a couple, {per} N·m for every 100 mm of that distance" in text
+    assert f"form a couple of amplitude {per} N·m for every 100 mm of that distance" in text
     none = shared_html("petrol-1cyl", {"balancing": {"balance_orders": []}}, "en", ("balancing",))
     assert "for every 100 mm of that distance" not in none.linked_html
 
@@ -1342,7 +1342,9 @@ def test_a_single_cylinders_shaft_beside_the_crankshaft_leaves_its_couple_in_the
     page = shared_html("petrol-1cyl", None, "en", ("balancing",)).linked_html
     conclusions = page[page.index('class="conclusions"') :]
     text = html_lib.unescape(" ".join(re.sub(r"<[^>]+>", "", conclusions).split()))
-    found = re.search(r"leaves a first-order couple of ([\d.]+) N·m for every 100 mm", text)
+    found = re.search(
+        r"leaves a first-order couple of amplitude ([\d.]+) N·m for every 100 mm", text
+    )
     assert found, text[:600]
     assert float(found.group(1)) == pytest.approx(0.5 * r["first_order_N"] * 0.1, rel=5e-3)
 

@@ -471,7 +471,12 @@ def _means_rows(ctx, r, single: bool) -> list[tuple]:
             sense = t("balancing.shaft_" + ("forward" if shaft["speed_ratio"] > 0 else "backward"))
             means_rows.append(
                 (
-                    t("balancing.shaft_single", order=shaft["order"], sense=sense)
+                    # the whole phrase: a participle agrees with the shaft (ru "вращающийся")
+                    t(
+                        "balancing.shaft_single_"
+                        + ("forward" if shaft["speed_ratio"] > 0 else "backward"),
+                        order=shaft["order"],
+                    )
                     if single
                     else t(
                         "balancing.shaft",

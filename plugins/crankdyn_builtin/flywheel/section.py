@@ -97,7 +97,7 @@ def _energy_rows(r: dict, t, symbols, cranks: int | None) -> list[tuple]:
     rows = [
         (t("flywheel.row_excess_work"), "Δ<i>L</i>", r["excess_work_J"], t("unit.J")),
         (
-            t("flywheel.row_mechanism"),
+            t(crank_key(t, "flywheel.row_mechanism", cranks)),
             "<i>J</i><sub>m</sub>",
             r["mechanism_inertia_mean_kg_m2"],
             t("flywheel.unit_kg_m2"),
