@@ -533,3 +533,11 @@ def test_a_course_note_bounds_an_error_below_a_thousandth_instead_of_printing_it
     assert _error_words(ctx, 6.7e-6) == "below 0.001"
     assert _error_words(ctx, 0.00674) == "up to 0.0067"
     assert _error_words(ctx, 12.34) == "up to 12"
+
+
+def test_sorted_distinct_equals_numpy_unique():
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        values = np.round(rng.uniform(0.0, 720.0, rng.integers(0, 60)), rng.integers(0, 3))
+        values = np.concatenate([values, values[: rng.integers(0, 5)]])  # repeated knots
+        assert np.array_equal(reference._sorted_distinct(values), np.unique(values))
