@@ -733,8 +733,9 @@ def test_supports_usually_on_rolling_bearings_are_said_to_be(example, said):
     text = " ".join(rendered.linked_html.split())
     if example == "two-stroke-1cyl":
         rod = max(b["rolling_equivalent_N"] for b in results["rod_bearings"]) / 1e3
-        assert f"reaches {rod:.2f} kN at the big ends and {main:.2f} kN at the main" in text
-        assert f"{rod:.2f} kN at the big ends and {main:.2f} kN at the main supports." in text
+        # one cylinder: its one big end
+        assert f"reaches {rod:.2f} kN at the big end and {main:.2f} kN at the main" in text
+        assert f"{rod:.2f} kN at the big end and {main:.2f} kN at the main supports." in text
     else:
         assert f"reaches {main:.2f} kN at the main supports" in text
     car = shared_html("inline4-petrol", None, "en").linked_html
@@ -857,3 +858,18 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
     assert (concluded in text) is said
     if said:  # before the verdicts it qualifies
         assert text.rindex(concluded) < text.rindex("The big-end bearing pressure is within")
+
+
+@pytest.mark.parametrize(
+    ("cylinders", "said"),
+    [(1, "в подшипнике нижней головки шатуна"), (2, "в подшипниках нижних головок шатунов")],
+)
+def test_two_stroke_big_ends_are_counted(cylinders, said):
+    """A crankcase-scavenged single's rolling-bearing note names its one big end; a twin's, both."""
+    overrides = {"report": {"language": "ru"}}
+    if cylinders == 2:
+        overrides["engine"] = {"cylinders": 2}
+    text = " ".join(shared_html("two-stroke-1cyl", overrides, "ru").linked_html.split())
+    assert said in text
+    other = "в подшипниках нижних головок шатунов" if cylinders == 1 else "нижней головки шатуна"
+    assert other not in text

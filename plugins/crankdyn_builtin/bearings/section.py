@@ -438,11 +438,12 @@ def _guided_application(ctx, r) -> str:
 
 def _rolling_supports(scene) -> str | None:
     """Why the engine's supports are usually rolling bearings, as a catalog key's ending: a small
-    spark-ignition two-stroke (crankcase scavenging) or a radial aircraft engine; None otherwise."""
+    spark-ignition two-stroke (crankcase scavenging; its one big end in the singular) or a
+    radial aircraft engine; None otherwise."""
     if scene is None:
         return None
     if scene.engine.strokes == 2 and scene.cycle is not None and scene.cycle.ignition == "spark":
-        return "two_stroke_rolling"
+        return "two_stroke_rolling_single" if scene.engine.cylinders == 1 else "two_stroke_rolling"
     radial = scene.engine.layout == "radial"  # a flat or in-line aircraft engine runs on plain ones
     return "aircraft_supports" if scene.engine.application == "aircraft" and radial else None
 
