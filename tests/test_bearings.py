@@ -873,3 +873,13 @@ def test_two_stroke_big_ends_are_counted(cylinders, said):
     assert said in text
     other = "в подшипниках нижних головок шатунов" if cylinders == 1 else "нижней головки шатуна"
     assert other not in text
+
+
+def test_journal_caption_numbers_the_crank_only_among_several():
+    """A main journal's diagram is drawn in the axes of a crank: "the crank's" where there is one,
+    "crank 1" where there are more."""
+    single = " ".join(shared_html("petrol-1cyl", None, "en").linked_html.split())
+    assert "main journal" in single and "(axes of the crank, oil hole marked)" in single
+    assert "axes of crank 1" not in single
+    four = " ".join(shared_html("inline4-petrol", None, "en").linked_html.split())
+    assert re.search(r"\(axes of crank [1-4], oil hole marked\)", four)

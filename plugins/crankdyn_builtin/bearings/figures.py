@@ -417,8 +417,9 @@ def _polar_diagrams(ctx, r, f, angle, single: bool) -> list:
                     0.12,
                     labels_every,
                     f"journal{j - 1}",
+                    # one crank: "the crank's axes", without its number
                     t(
-                        "bearings.journal_caption",
+                        "bearings.journal_caption_single" if single else "bearings.journal_caption",
                         label=journal_name(journal),
                         crank=max(j - 1, 1),
                     ),
