@@ -1383,3 +1383,19 @@ def test_the_masses_table_gives_a_of_every_order_analysed():
 
 
 SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+@pytest.mark.parametrize(
+    ("orders", "said"),
+    [
+        ([1], "Параметры противовесов и уравновешивающего вала приведены"),
+        ([1, 2], "Параметры противовесов и уравновешивающих валов приведены"),
+    ],
+)
+def test_means_table_is_announced_with_its_shafts_counted(orders, said):
+    """Counterweights and one balance shaft (the three-cylinder's first-order moment shaft) are
+    announced with the shaft in the singular; with the second order's pair, in the plural."""
+    from conftest import shared_html
+
+    html = shared_html("inline3-petrol", {"balancing": {"balance_orders": orders}}, "ru")
+    assert said in " ".join(html.linked_html.split())

@@ -535,7 +535,11 @@ def _means_caption(ctx, r, single: bool) -> tuple[str, str]:
         see = "balancing.see_means_single"  # one counterweight and one or more shafts
     else:  # one shaft is said in the singular
         caption = t("balancing.means_caption_single", shafts=len(r["balance_shafts"]), **radii)
-        see = "balancing.see_means"
+        see = (
+            "balancing.see_means_one_shaft"
+            if len(r["balance_shafts"]) == 1
+            else "balancing.see_means"
+        )
     return caption, see
 
 
