@@ -833,7 +833,7 @@ def test_shafts_without_counterweights_leave_no_counterweights_in_the_abstract()
 
 def test_a_270_degree_twins_first_order_shaft_is_said_to_take_its_force_and_its_moment():
     """A 270° twin's first-order shaft takes the counter-rotating parts of ΣP_I and of ΣM_I: the
-    abstract named the force alone (the moment was left out whenever the shaft carried a force)."""
+    abstract names both, the force's and the moment's, after one plural noun."""
     from conftest import TWIN_270_ENGINE, as_read, shared_html, shared_run
 
     twin = {
@@ -844,10 +844,14 @@ def test_a_270_degree_twins_first_order_shaft_is_said_to_take_its_force_and_its_
     (shaft,) = [s for s in b["balance_shafts"] if s["order"] == 1]
     assert shaft["force_N"] > 0 and shaft["moment_Nm"] > 0
     text = as_read(re.sub(r"<[^>]+>", "", shared_html("inline3-petrol", twin, "ru").linked_html))
-    force = f"составляющая ΣPI ({shaft['force_N']:.0f}\u202fН)"
-    moment = f"составляющая ΣMI ({shaft['moment_Nm']:.1f}\u202fН·м)".replace(".", ",")
-    assert "неуравновешенными остались бы также вращающаяся навстречу валу " + force in text
-    assert moment in text
+    force = f"ΣPI ({shaft['force_N']:.0f}\u202fН)"
+    moment = f"ΣMI ({shaft['moment_Nm']:.1f}\u202fН·м)".replace(".", ",")
+    # both parts named by one plural noun, not "составляющая …" twice
+    assert (
+        "неуравновешенными остались бы также вращающиеся навстречу валу составляющие "
+        f"{force} и {moment}"
+    ) in text
+    assert "составляющая ΣPI" not in text
 
 
 @pytest.mark.parametrize(("example", "changes"), [("inline4-petrol", None), ("v8-petrol", None)])

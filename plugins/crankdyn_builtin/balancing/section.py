@@ -351,6 +351,7 @@ def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
     for order in sorted({shaft["order"] for shaft in r["balance_shafts"]}):
         shafts = [shaft for shaft in r["balance_shafts"] if shaft["order"] == order]
         directions = {shaft["speed_ratio"] > 0 for shaft in shafts}
+        parts = []  # the order's parts turning one way: its force's and its moment's
         for moment in (False, True):
             if moment and any(shaft["moment_Nm"] is None for shaft in shafts):
                 continue
@@ -371,10 +372,16 @@ def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
                 key = "balancing.resultant_moment" if moment else "balancing.resultant_force"
                 items.append((t(key, **values), "masculine" if moment else "feminine"))
             else:
-                key = (
-                    "balancing.part_forward" if directions == {True} else "balancing.part_backward"
-                )
-                items.append((t(key, **values), "feminine"))
+                parts.append(values)
+        if parts:
+            forward = directions == {True}
+            if len(parts) == 1:  # "the counter-rotating part of ΣP_I (10 199 N)"
+                key = "balancing.part_forward" if forward else "balancing.part_backward"
+                items.append((t(key, **parts[0]), "feminine"))
+            else:  # the force's and the moment's parts named once: "… parts of ΣP_I (…) and ΣM_I (…)"
+                key = "balancing.parts_forward" if forward else "balancing.parts_backward"
+                named = t.join_and([t("balancing.part_value", **values) for values in parts])
+                items.append((t(key, items=named), "many"))
     return items
 
 
