@@ -4,6 +4,7 @@ volume there, and the pressure of the curve it belongs to."""
 
 from __future__ import annotations
 
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 
 from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import run_scene
+from crankdyn.plugin.contracts import GAS_PRESSURE
 from crankdyn.plugin.registry import default_registry
 from crankdyn.plugin.scene_inputs import rounding_parameters
 from crankdyn.scene.model import load_scene
@@ -319,3 +321,22 @@ def test_a_diesels_peak_without_a_given_angle_is_put_on_its_isobar():
     assert f"Crankangleofthepeakpressure(afterTDC){angle}°" in cells
     given = shared_run("diesel-1cyl", stages=["indicator"]).outputs["indicator"].results
     assert given["peak_on_isobar"] is None and given["peak_angle_after_tdc_deg"] == 12.0
+
+
+def test_given_data_table_names_the_peak_fraction_taken_instead_of_the_given():
+    """A given p_z′/p_z that would stand above the theoretical diagram is lowered by the stage;
+    the given-data table prints the task's value and the one taken, with the section that says
+    why; a fraction taken as given is printed alone."""
+    from conftest import shared_html, shared_run
+
+    lowered = {"cycle": {"rounding": {"peak_pressure_fraction": 0.99}}}
+    run = shared_run("petrol-1cyl", lowered)
+    taken = run.outputs["indicator"].data[GAS_PRESSURE].rounding.peak_pressure_fraction
+    assert taken < 0.99 - 1e-3
+    html = shared_html("petrol-1cyl", lowered, "en").linked_html
+    section = re.search(r"<h2[^>]*>(\d+) Indicator diagram", html)
+    cell = re.search(r"<i>p</i><sub>z′</sub>/<i>p</i><sub>z</sub></td><td>([^<]*)<", html)
+    assert section and cell
+    assert cell.group(1) == f"0.99 (taken: {taken:.3f}, see section {section.group(1)})"
+    plain = shared_html("petrol-1cyl", None, "en").linked_html
+    assert "(taken:" not in plain

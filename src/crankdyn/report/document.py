@@ -399,6 +399,22 @@ def _rounding_used(result) -> RoundingParameters | None:
     )
 
 
+def _peak_fraction_taken(result) -> tuple[float, str] | None:
+    """The p_z′/p_z the gas-pressure stage drew where the scene gives another (a given peak
+    that would stand above the theoretical diagram is lowered), with that stage's section mark:
+    the given-data table names both; None otherwise."""
+    cycle = getattr(result.scene, "cycle", None)
+    given = getattr(getattr(cycle, "rounding", None), "peak_pressure_fraction", None)
+    if given is None:
+        return None
+    for stage in result.plan.order:
+        if GAS_PRESSURE in stage.provides and stage.name in result.outputs:
+            drawn = getattr(result.outputs[stage.name].data.get(GAS_PRESSURE), "rounding", None)
+            if drawn is not None and abs(drawn.peak_pressure_fraction - given) > 1e-9:
+                return float(drawn.peak_pressure_fraction), f"{_COMPUTED_ROW_MARK}{stage.name}@@"
+    return None
+
+
 def _stage_input_rows(result, ctx, hook: str = "input_rows") -> list[tuple[str, str, str, str]]:
     """The given-data rows of the stages in the plan (``StagePresentation.input_rows``), in plan
     order; with ``hook="taken_rows"`` the values they take that the scene does not give."""
@@ -474,6 +490,7 @@ def _input_view(result, registry, ctx) -> SectionView:
                 stage_rows=_stage_input_rows(result, ctx),
                 stage_taken_rows=_stage_input_rows(result, ctx, "taken_rows"),
                 rounding_used=_rounding_used(result),
+                peak_fraction_taken=_peak_fraction_taken(result),
                 shared_pins=_cylinders_share_pins(scene),
                 **_inputs_used(result),
             )
