@@ -29,3 +29,17 @@ def test_no_catalog_sentence_doubles_a_word():
         for found in DOUBLED.finditer(re.sub(r"\{[^}]*\}", " ¤ ", text))
     ]
     assert not doubled, "\n".join(doubled)
+
+
+def test_russian_references_part_their_areas_with_dashes():
+    """A Russian list of sources parts the areas of each entry with " – " (ГОСТ Р 7.0.100: the
+    edition, the place and publisher, the extent): every entry with a publisher does."""
+    root = Path(__file__).resolve().parent.parent
+    files = [root / "templates" / "i18n" / "ru.toml", *root.glob("plugins/*/*/i18n/*.ru.toml")]
+    bare = [
+        f"{path.name}: {key}"
+        for path in files
+        for key, entry in tomllib.loads(path.read_text(encoding="utf-8")).get("ref", {}).items()
+        if " : " in entry and " – " not in entry[: entry.rindex(" : ")]
+    ]
+    assert not bare
