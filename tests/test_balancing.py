@@ -1403,3 +1403,24 @@ def test_means_table_is_announced_with_its_shafts_counted(orders, said):
 
     html = shared_html("inline3-petrol", {"balancing": {"balance_orders": orders}}, "ru")
     assert said in " ".join(html.linked_html.split())
+
+
+@pytest.mark.parametrize(
+    ("orders", "label"),
+    [
+        ([1], "Радиус центра масс противовесов уравновешивающего вала"),
+        ([1, 2], "Радиус центра масс противовесов уравновешивающих валов"),
+    ],
+)
+def test_given_shaft_radius_names_the_shafts_fitted(orders, label):
+    """The given radius of the balance-shaft masses names one shaft (the three-cylinder's
+    first-order moment shaft) in the singular and the second order's pair with it in the plural."""
+    from conftest import shared_html
+
+    html = shared_html(
+        "inline3-petrol",
+        {"balancing": {"balance_orders": orders, "balance_shaft_radius": "22 mm"}},
+        "ru",
+    )
+    text = " ".join(html.linked_html.split())
+    assert label + "<" in text.replace("</td>", "<").replace(" <", "<")

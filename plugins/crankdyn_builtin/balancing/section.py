@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
+from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
@@ -838,9 +839,15 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     where the scene gives them (a default it leaves is no datum of the task)."""
     opts = options(scene, "balancing", BalancingOptions)
     t, mm = ctx.t, ctx.t("unit.mm")
+    fitted = ctx.data(COUNTERWEIGHTS)
+    # one balance shaft fitted (a single's counter-rotating one, a twin's): its masses, singular
+    one_shaft = fitted is not None and fitted.balance_shafts == 1
     rows = []
     for key in ("counterweight_radius", "balance_shaft_radius", "rod_offset"):
         value = getattr(opts, key)
         if value is not None:
-            rows.append((t(f"balancing.input_{key}"), "", t.number_g(value * 1e3, 4), mm))
+            label = f"balancing.input_{key}" + (
+                "_one" if key == "balance_shaft_radius" and one_shaft else ""
+            )
+            rows.append((t(label), "", t.number_g(value * 1e3, 4), mm))
     return rows
