@@ -45,7 +45,7 @@ def test_a_v_engines_layout_is_said_in_words():
 
     text = shared_html("v8-petrol", None, "uk", ("bays",)).linked_html
     assert "вісім циліндрів на чотирьох колінах" in text
-    assert "Колінчастий вал має п’ять корінних опор" in text
+    assert "Колінчастий вал прийнято повноопорним: п’ять корінних опор" in text
 
 
 def test_the_firing_order_explorer_counts_in_words_and_captions_without_a_leading_digit():

@@ -180,7 +180,7 @@ def test_the_layout_section_says_how_many_main_supports_the_shaft_has():
     # a support between neighbouring cranks and at both ends: cranks + 1, as the plan draws them
     text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", None, "ru").linked_html)
     # a count below ten in words (ГОСТ 2.105), its noun agreeing with it
-    assert "Коленчатый вал имеет пять коренных опор" in text
+    assert "Коленчатый вал принят полноопорным: пять коренных опор" in text
 
 
 def test_a_straight_eights_plan_keeps_its_words_apart():
