@@ -119,13 +119,16 @@ def test_a_v_engines_crank_star_names_cylinder_1L_in_russian():
     assert _first_cylinder(inline) == "1"
 
 
-def test_a_boat_engines_take_off_end_is_its_drive_not_a_flywheel():
-    """An outboard motor's flywheel sits at the other end from its drive: a marine engine's
-    journals name the power take-off end; a car's keep the flywheel's."""
+@pytest.mark.parametrize("application", ["marine", "motorcycle"])
+def test_a_boat_or_motorcycle_engines_take_off_end_is_its_drive_not_a_flywheel(application):
+    """An outboard motor's flywheel sits at the other end from its drive, and a motorcycle's
+    alternator rotor at the other end from its primary drive: their journals name the power
+    take-off end; a car's keep the flywheel's."""
     from conftest import shared_html
 
-    marine = shared_html("inline3-petrol", {"engine": {"application": "marine"}}, "en")
-    assert "power take-off end" in marine.linked_html
+    other = shared_html("inline3-petrol", {"engine": {"application": application}}, "en")
+    assert "power take-off end" in other.linked_html
+    assert "flywheel end" not in other.linked_html
     car = shared_html("inline3-petrol", None, "en").linked_html
     assert "its flywheel end" in car or "towards the flywheel" in car
 

@@ -28,9 +28,12 @@ from .contracts import ArticulatedOptions, BayLoads, PinSizeOptions
 def power_take_off(scene) -> str:
     """What the shaft's power take-off end carries, by ``engine.application``: ``"propeller"``
     (an aircraft engine), ``"drive"`` (a boat's: an outboard motor's flywheel sits at the other
-    end) or ``"flywheel"``."""
+    end; a motorcycle's primary drive, whose alternator rotor, the flywheel, is usually at the
+    other end) or ``"flywheel"``."""
     application = scene.engine.application if scene is not None else None
-    return {"aircraft": "propeller", "marine": "drive"}.get(application or "", "flywheel")
+    return {"aircraft": "propeller", "marine": "drive", "motorcycle": "drive"}.get(
+        application or "", "flywheel"
+    )
 
 
 def engine_layout(scene) -> lay.EngineLayout:
