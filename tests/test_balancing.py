@@ -9,7 +9,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import modified
+from conftest import modified, shared_html
 
 from crankdyn.cli import examples_dir
 from crankdyn.engine.orchestrator import run_scene
@@ -1424,3 +1424,67 @@ def test_given_shaft_radius_names_the_shafts_fitted(orders, label):
     )
     text = " ".join(html.linked_html.split())
     assert label + "<" in text.replace("</td>", "<").replace(" <", "<")
+
+
+def _unit_text(html) -> str:
+    import re
+
+    return re.sub(r"<[^>]+>", "", " ".join(html.linked_html.split()))
+
+
+def test_a_single_may_leave_the_counter_rotating_first_order_half():
+    """``first_order_backward = "left"``: no balance shaft; the counterweights (Q = F + C, as with
+    a shaft) leave half of C_I = m_s R ω² turning against the shaft, which the residual check,
+    the summary, the given data, the abstract and the conclusions all say."""
+    import math
+
+    from conftest import shared_run
+
+    run = shared_run("petrol-1cyl", {"balancing": {"first_order_backward": "left"}})
+    r = run.outputs["balancing"].results
+    e = run.scene.engine
+    omega = math.pi * e.rpm / 30
+    c_i = r["reciprocating_mass_kg"] * e.crank_radius_m * omega**2
+    assert r["balance_shafts"] == []
+    (part,) = r["parts_left_chosen"]
+    assert (part["order"], part["sense"]) == (1, "backward")
+    assert part["force_N"] == pytest.approx(c_i / 2, rel=1e-12)
+    assert r["residual"]["vanishes"]
+    first = next(s for s in r["summary"] if s["quantity"] == "sum_PI")
+    assert first["remedy"] == "counterweights+left_backward"
+    # the counterweights are those of the default (a shaft for the other half): Q = F + C
+    default = shared_run("petrol-1cyl").outputs["balancing"].results
+    assert [c["mass_radius_kg_m"] for c in r["counterweights"]] == pytest.approx(
+        [c["mass_radius_kg_m"] for c in default["counterweights"]], rel=1e-12
+    )
+    text = _unit_text(
+        shared_html("petrol-1cyl", {"balancing": {"first_order_backward": "left"}}, "uk")
+    )
+    half = f"{round(c_i / 2)} Н"
+    assert (
+        f"незрівноваженими залишаються лише половина сили першого порядку, що обертається назустріч валу, {half}"
+        in text
+    )
+    assert "за завданням її залишено незрівноваженою" in text
+    assert "З ними зрівноважено відцентрову силу і половину сили інерції першого порядку" in text
+    assert "немає (складову залишено незрівноваженою)" in text
+
+
+def test_a_three_leaves_the_counter_rotating_half_of_its_first_order_couple():
+    """The in-line three's first-order couple √3·C_I·a pulsates in the cylinders' plane: its
+    counter-rotating half, √3/2·C_I·a, is what ``first_order_backward = "left"`` leaves."""
+    import math
+
+    from conftest import shared_run
+
+    run = shared_run("inline3-petrol", {"balancing": {"first_order_backward": "left"}})
+    r = run.outputs["balancing"].results
+    a = run.scene.engine.cylinder_spacing
+    (part,) = r["parts_left_chosen"]
+    assert part["moment_Nm"] == pytest.approx(math.sqrt(3) / 2 * r["first_order_N"] * a, rel=1e-9)
+    assert part["force_N"] == pytest.approx(0.0, abs=1e-9 * r["first_order_N"])
+    assert all(shaft["order"] == 2 for shaft in r["balance_shafts"])
+    text = _unit_text(
+        shared_html("inline3-petrol", {"balancing": {"first_order_backward": "left"}}, "en")
+    )
+    assert "only the part of the first-order moments turning against the shaft" in text

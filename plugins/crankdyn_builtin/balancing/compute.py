@@ -337,6 +337,16 @@ def _orders_left(g, opts, means_given: bool, harmonics):
     return opts, left, dropped
 
 
+def _parts_left_chosen(opts, left) -> tuple[int, ...]:
+    """The rotating parts the scene chose to leave unbalanced (signed speeds, as
+    :func:`_parts_left`): the first order's counter-rotating part with ``first_order_backward =
+    "left"`` where the first order is balanced (its co-rotating part then goes to the
+    counterweights or a shaft alone)."""
+    if opts.first_order_backward == "left" and 1 in opts.balance_orders and -1 not in left:
+        return (-1,)
+    return ()
+
+
 def _part_negligible(model, part: str, scale: float) -> bool:
     """Whether the co- (``part`` "forward") or counter-rotating part of an order's force and moment
     is nil to round-off ``scale`` (in units of the order's amplitude)."""
@@ -412,7 +422,13 @@ def run(scene, inputs) -> StageOutput:
     opts = options(scene, "balancing", BalancingOptions)
     means_given = bool(
         opts.model_fields_set
-        & {"balance_orders", "counterweight_radius", "balance_shaft_radius", "counterweights"}
+        & {
+            "balance_orders",
+            "counterweight_radius",
+            "balance_shaft_radius",
+            "counterweights",
+            "first_order_backward",
+        }
     )
     e = scene.engine
     layout = engine_layout(scene)
@@ -427,6 +443,9 @@ def run(scene, inputs) -> StageOutput:
         g, masses, n_max = _articulated_cylinders(scene, layout, g, masses, slave_kg, n_max)
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     opts, left, dropped = _orders_left(g, opts, means_given, harmonics)
+    slave_left = left
+    chosen = _parts_left_chosen(opts, left)
+    left = left + chosen
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, torque)
     coefficients, absolute, orders = _order_vectors(g, opts, C, C_I, harmonics, a)
@@ -469,12 +488,17 @@ def run(scene, inputs) -> StageOutput:
             float(np.ptp(torque.torque_Nm)) if torque is not None else None
         ),
         "first_order_forward": opts.first_order_forward,
+        "first_order_backward": opts.first_order_backward,
+        #: the rotating parts the scene chose to leave (records as ``parts_left``'s)
+        "parts_left_chosen": _parts_left_results(g, masses, harmonics, chosen, a),
         **_geometry_results(g),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
         **_internal_moment(g, C, a, summary),
         "shaft_beside_couple_per_100mm_Nm": _shaft_beside_couple(g, shafts, C_I),
-        **_slave_results(g, masses, harmonics, slave_kg, left, dropped, a, opts, scene, layout),
+        **_slave_results(
+            g, masses, harmonics, slave_kg, slave_left, dropped, a, opts, scene, layout
+        ),
     }
 
     notes += _articulated_note(e.rod_type, results, harmonics)

@@ -58,6 +58,9 @@ class BalancingOptions(RodOffsetOptions):
     balance_orders: Annotated[list[int], AfterValidator(_orders)] | None = None
     counterweights: Literal["ends", "every_crank"] = "ends"
     first_order_forward: Literal["crankshaft", "shaft"] = "crankshaft"
+    # "left": no balance shaft for the first order's counter-rotating part (a single's
+    # counterweights alone, sized for C + C_I/2, leave C_I/2 turning against the shaft)
+    first_order_backward: Literal["shaft", "left"] = "shaft"
     explore: bool = False
     explore_top: Annotated[int, AfterValidator(_top)] = 10
 

@@ -411,6 +411,13 @@ def _left_after_means(
         )
         shares_text = ""
     listed += f" ({shares_text})" if shares_text else ""
+    chosen = [] if scheme else chosen_part_items(t, r)
+    if chosen:  # the part the scene chose to leave comes first, with its own value and share
+        # after a list that has its own "and", joined by a comma: "A, B = 1 and C = 2 (…)"
+        if len(items) > 1:
+            listed = ", ".join([*chosen, listed])
+        else:
+            listed = t.join_and([*chosen, listed] if items else chosen)
     if scheme:
         balanced = [plain_symbol(s, sign) for s in r["summary"] if s["balanced"]]
         return t(
@@ -431,7 +438,40 @@ def _left_after_means(
         if forces_only(t, r)
         else ""
     )
-    return t(key, count=len(items), items=listed)
+    return t(key, count=len(items) + len(chosen), items=listed)
+
+
+def chosen_part_items(t, r) -> list[str]:
+    """The rotating parts the scene chose to leave unbalanced (``parts_left_chosen``), as a
+    list of what stays names them: "the half of the first-order force turning against the
+    shaft, 4124 N (50 % of C_I)"; a part's force and its moment each where it is not nil."""
+    single = len(r["cylinder_labels"]) == 1
+    items = []
+    for part in r.get("parts_left_chosen") or ():
+        words = {
+            "order_words": orders_in_words(t, [part["order"]]),
+            "sense": t("balancing.sense_" + part["sense"]),
+        }
+        if part["share_of_first_order"] > NEGLIGIBLE_SHARE:
+            items.append(
+                t(
+                    "balancing.part_left_chosen" + ("_single" if single else ""),
+                    force=newtons(t, part["force_N"]),
+                    share=t.number_g(100 * part["share_of_first_order"], 2),
+                    **words,
+                )
+            )
+        moment, a = part.get("moment_Nm"), r.get("cylinder_spacing_m")
+        if moment and a and moment > NEGLIGIBLE_SHARE * r["first_order_N"] * a:
+            items.append(
+                t(
+                    "balancing.part_left_chosen_moment",
+                    moment=newton_metres(t, moment),
+                    share=t.number_g(100 * moment / (r["first_order_N"] * a), 2),
+                    **words,
+                )
+            )
+    return items
 
 
 def forces_only(t, r) -> bool:
@@ -513,6 +553,8 @@ def _means_sentence(t, r) -> str:
     key = "balancing.conclusion_means_single" if single else "balancing.conclusion_means"
     if single and not balanced:  # counterweights for the centrifugal force alone
         key = "balancing.conclusion_means_single_centrifugal"
+    elif single and r.get("parts_left_chosen"):  # the counterweights' half of P_I alone
+        key = "balancing.conclusion_means_single_left"
     what = balanced_by_means(t, r)
     if not single and not what:  # counterweights that change no free force or moment
         key = "balancing.conclusion_means_plain"
@@ -850,4 +892,6 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
                 "_one" if key == "balance_shaft_radius" and one_shaft else ""
             )
             rows.append((t(label), "", t.number_g(value * 1e3, 4), mm))
+    if opts.first_order_backward == "left":  # a choice of the assignment's, as the radii are
+        rows.append((t("balancing.input_first_order_backward"), "", t("balancing.input_left"), ""))
     return rows
