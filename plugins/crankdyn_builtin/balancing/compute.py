@@ -417,19 +417,22 @@ def _first_order_shares(absolute: dict, first_order_N: float, spacing_m) -> dict
     return shares
 
 
+#: the options by which a scene chooses its balancing means (else the stage chooses and says so)
+MEANS_FIELDS = frozenset(
+    {
+        "balance_orders",
+        "counterweight_radius",
+        "balance_shaft_radius",
+        "counterweights",
+        "first_order_backward",
+    }
+)
+
+
 def run(scene, inputs) -> StageOutput:
     torque = inputs.get(ENGINE_TORQUE)  # only for the reaction-torque range; absent without a cycle
     opts = options(scene, "balancing", BalancingOptions)
-    means_given = bool(
-        opts.model_fields_set
-        & {
-            "balance_orders",
-            "counterweight_radius",
-            "balance_shaft_radius",
-            "counterweights",
-            "first_order_backward",
-        }
-    )
+    means_given = bool(opts.model_fields_set & MEANS_FIELDS)
     e = scene.engine
     layout = engine_layout(scene)
     g, k = _offset_geometry(bal.geometry_from_layout(layout), inputs[KINEMATICS], e.rod_length_m)
@@ -443,8 +446,7 @@ def run(scene, inputs) -> StageOutput:
         g, masses, n_max = _articulated_cylinders(scene, layout, g, masses, slave_kg, n_max)
     harmonics = bal.harmonics_for(e.rod_ratio_value, n_max, k)
     opts, left, dropped = _orders_left(g, opts, means_given, harmonics)
-    slave_left = left
-    chosen = _parts_left_chosen(opts, left)
+    slave_left, chosen = left, _parts_left_chosen(opts, left)
     left = left + chosen
     C, C_I = masses.centrifugal_N, masses.first_order_N
     notes = _input_notes(opts, g, a, torque)
@@ -484,9 +486,7 @@ def run(scene, inputs) -> StageOutput:
         "balance_shafts": shafts,
         "residual": residual,
         "summary": summary,
-        "reaction_torque_range_Nm": (
-            float(np.ptp(torque.torque_Nm)) if torque is not None else None
-        ),
+        "reaction_torque_range_Nm": float(np.ptp(torque.torque_Nm)) if torque is not None else None,
         "first_order_forward": opts.first_order_forward,
         "first_order_backward": opts.first_order_backward,
         #: the rotating parts the scene chose to leave (records as ``parts_left``'s)
@@ -501,16 +501,20 @@ def run(scene, inputs) -> StageOutput:
         ),
     }
 
-    notes += _articulated_note(e.rod_type, results, harmonics)
+    notes += _articulated_note(e.rod_type, results, harmonics) + [_check_note(g, all_orders)]
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
-    check_note = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
-    notes.append((check_note, {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES}))
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     fitted = _fitted(counterweights, e.angular_velocity_rad_s, r_cw, shafts, r_sh)
     return StageOutput(
         data={COUNTERWEIGHTS: fitted}, results=results, tables={"balancing": table}, notes=notes
     )
+
+
+def _check_note(g, all_orders) -> tuple[str, dict]:
+    """The note on the time-domain check of the orders' sums."""
+    key = "balancing.note_check_single" if len(g.labels) == 1 else "balancing.note_check"
+    return key, {"orders": _orders_listed(all_orders), "samples": CHECK_SAMPLES}
 
 
 def _internal_moment(g, C: float, spacing_m: float | None, summary: list[dict]) -> dict:
