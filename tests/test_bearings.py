@@ -849,10 +849,14 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
     changes = {"engine": {"application": application}}
     html = shared_html("petrol-1cyl", changes, "en", ("bearings",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
-    guide = "are those of automotive and tractor engines [6], and here they serve only as a guide"
+    # the journal sizes are taken from car proportions too: one sentence says both only guide
+    guide = (
+        "are likewise those of automotive and tractor engines [6]; here both serve only as a guide"
+    )
     assert (guide in text) is said
     if said:
-        assert f"The engine is a {application} engine: the allowable bearing pressures" in text
+        assert f"The engine is a {application} engine, not a car or tractor engine" in text
+        assert text.count(f"The engine is a {application} engine") == 2  # and the conclusions'
     # and the conclusions, which repeat the verdicts, say so too, before them
     concluded = f"The engine is a {application} engine, so the allowable bearing pressures the"
     assert (concluded in text) is said
@@ -883,3 +887,46 @@ def test_journal_caption_numbers_the_crank_only_among_several():
     assert "axes of crank 1" not in single
     four = " ".join(shared_html("inline4-petrol", None, "en").linked_html.split())
     assert re.search(r"\(axes of crank [1-4], oil hole marked\)", four)
+
+
+def test_a_single_crank_with_rods_side_by_side_says_its_journals_share_unequally_in_fact():
+    """A V-twin's two rods on its one pin: the rods' planes lie half a big-end bearing's width off
+    the pin's middle, but a single crank's span between its journals is not given, so the note
+    says the equal shares are the model's and leaves the difference out (no share is computed)."""
+    from conftest import V_TWIN_ENGINE
+
+    changes = {"engine": V_TWIN_ENGINE}
+    r = shared_run("v8-petrol", changes, ("bearings",)).outputs["bearings"].results
+    width = r["rod_bearings"][0]["width_m"]
+    assert r["rod_plane_offset_m"] == pytest.approx(width / 2, rel=1e-12)
+    assert r["rod_plane_share_shift"] is None
+    html = shared_html("v8-petrol", changes, "uk").linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    offset = f"{width / 2 * 1e3:.3g}".replace(".", ",")
+    assert f"площина крайнього шатуна зміщена від середньої на {offset} мм" in text
+    assert "проліт у завданні не вказано" in text
+    # one crank pin: its rod bearings' captions name no pin number
+    assert "на шатунній шийці (лише сила цього шатуна" in text
+    assert "на шатунній шийці 1 " not in text
+
+
+def test_a_motorcycle_engine_with_its_own_journal_sizes_is_told_only_of_the_pressures():
+    """Journal sizes given: only the allowable pressures are car engines', and the note says so
+    of them alone."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {
+        "engine": {"application": "motorcycle"},
+        "bearings": {
+            "crank_pin_diameter": "45 mm",
+            "crank_pin_width": "26 mm",
+            "main_journal_diameter": "50 mm",
+            "main_journal_width": "24 mm",
+        },
+    }
+    html = shared_html("petrol-1cyl", changes, "en", ("bearings",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    assert "The engine is a motorcycle engine: the allowable bearing pressures" in text
+    assert "not a car or tractor engine" not in text

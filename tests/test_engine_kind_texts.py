@@ -224,13 +224,13 @@ def test_the_tangent_is_written_as_the_language_writes_it(language, tangent):
 
 
 def test_an_english_note_writes_angles_with_the_degree_sign():
-    """ "intervals between firings: 405; 315°", not "… 315 deg": the English note's angles carry the
+    """ "intervals between firings: 405° and 315°", not "… 315 deg": the English note's angles carry the
     sign the Ukrainian and Russian ones do."""
     from conftest import V_TWIN_ENGINE
 
     text = _text(shared_html("v8-petrol", {"engine": V_TWIN_ENGINE}, "en").linked_html)
     assert not re.search(r"\d deg\b", text)
-    assert "405; 315°" in text
+    assert "405° and 315°" in text
 
 
 def test_the_english_negligible_orders_read_as_a_sentence():
@@ -266,3 +266,15 @@ def test_a_boosted_engines_mechanical_efficiency_names_the_pumping_gain():
         r" among the mechanical losses",
         text,
     ), text
+
+
+def test_a_twin_on_one_crank_lists_its_intervals_and_counterweights_as_prose():
+    """ "450° і 270°", not "450; 270°"; "противаги на щоках коліна", not "коліна 1" when there
+    is one crank."""
+    from conftest import V_TWIN_ENGINE
+
+    text = _text(shared_html("v8-petrol", {"engine": V_TWIN_ENGINE}, "uk").linked_html)
+    assert "інтервали між спалахами: 405° і 315°." in text
+    assert "становлять 405° і 315° замість рівних 360°" in text
+    assert "на щоках коліна 1" not in text
+    assert "дві противаги на щоках коліна і один зрівноважувальний вал" in text

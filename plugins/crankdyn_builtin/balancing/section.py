@@ -516,7 +516,9 @@ def _counterweights_means(t, r) -> str:
     if len(r["cylinder_labels"]) == 1:
         return t("balancing.means_counterweights", n=bodies)
     cranks = [str(cw["crank"]) for cw in counterweights]
-    if len(set(cranks)) == len(r["crank_directions_deg"]) and len(cranks) > 2:
+    if len(r["crank_directions_deg"]) == 1:
+        where = t("balancing.webs_single_crank")
+    elif len(set(cranks)) == len(r["crank_directions_deg"]) and len(cranks) > 2:
         where = t("balancing.webs_every_crank")
     else:
         where = t("balancing.webs_cranks", k=len(cranks), labels=t.join_and(cranks))

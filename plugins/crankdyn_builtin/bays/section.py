@@ -415,7 +415,7 @@ def _uneven_text(r, ctx) -> str | None:
         cycle=t.number_g(cycle, 4),
         cranks="; ".join(t.number_g(x, 4) for x in r["crank_angles_deg"]),
         bank=t.number_g(bank, 4) if bank else "",
-        intervals="; ".join(t.number_g(x, 4) for x in intervals),
+        intervals=t.degrees_and(intervals),
         even=t.number_g(cycle / len(intervals), 4),
     )
 

@@ -498,11 +498,13 @@ def _rod_plane_shift(planes_apart_m: float, per_pin: int, spacing_m, span_ratio:
     """Rods side by side on a pin are loaded in its middle plane; the outermost rod's plane lies
     (n − 1)/2 of the rods' planes' distance ``planes_apart_m`` (the balancing's rod offset) off
     it, which shifts the share of its force each neighbouring main journal takes by that offset
-    over the span (the crank spacing a): offset in m and share."""
-    if per_pin == 1 or not spacing_m or span_ratio != 0.5 or not planes_apart_m:
+    over the span (the crank spacing a): offset in m and share (None without a spacing: a single
+    crank's span between its journals is not known from the assignment)."""
+    if per_pin == 1 or span_ratio != 0.5 or not planes_apart_m:
         return {}
     offset = 0.5 * (per_pin - 1) * planes_apart_m
-    return {"rod_plane_offset_m": offset, "rod_plane_share_shift": offset / spacing_m}
+    share = offset / spacing_m if spacing_m else None
+    return {"rod_plane_offset_m": offset, "rod_plane_share_shift": share}
 
 
 def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: float):

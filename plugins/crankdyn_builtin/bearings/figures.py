@@ -324,10 +324,10 @@ def _crank_number(k, single: bool) -> dict:
     return {"k": "" if single else f" {k}"}
 
 
-def _one_of(t, key: str, k, single: bool) -> str:
+def _one_of(t, key: str, k, single: bool, **values) -> str:
     """The catalog text ``key`` for crank (pin) ``k``, without the number when there is one crank."""
     return re.sub(
-        r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k))
+        r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k, **values))
     ).strip()
 
 
@@ -484,7 +484,13 @@ def _rod_diagrams(ctx, r, f, angle, k: int, single: bool, labels_every: float) -
                 0.12,
                 labels_every,
                 name,
-                t("bearings.rod_caption_cylinder", cylinder=t.cylinder(rod["cylinder"]), k=k),
+                _one_of(
+                    t,
+                    "bearings.rod_caption_cylinder",
+                    k,
+                    single,
+                    cylinder=t.cylinder(rod["cylinder"]),
+                ),
                 axes=axes,
                 see=("bearings.see_polar_rod_cylinder", {"cylinder": t.cylinder(rod["cylinder"])}),
             )

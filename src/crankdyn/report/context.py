@@ -261,6 +261,7 @@ class RenderContext:
         self.env.filters["cyl"] = self.t.cylinder  # "1L" as this language prints it
         self.env.filters["firing_order_cell"] = self.t.firing_order_cell
         self.env.filters["angle"] = self.angle_text  # a crank angle: "372°", "75,4°"
+        self.env.filters["degrees_and"] = self.t.degrees_and  # "450° і 270°"
         # the assignment's engine name within a sentence ("Об’єкт розрахунку – трициліндровий …")
         self.env.filters["inside_sentence"] = lambda name: names.inside_sentence(
             name, self.t.language
@@ -530,6 +531,7 @@ class RenderContext:
         if "cyl" not in self.env.filters:
             self.env.filters["cyl"] = self.t.cylinder
         self.env.filters["angle"] = self.angle_text  # this report's step
+        self.env.filters["degrees_and"] = self.t.degrees_and
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
 

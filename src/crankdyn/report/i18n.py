@@ -224,6 +224,13 @@ class Translator:
 
         return format_list(list(items), locale=self.locale)
 
+    def degrees_and(self, values, significant: int = 4) -> str:
+        """Angles as one list: "450° і 270°"; equal angles once ("180°": every interval is 180°)."""
+        texts = [self.number_g(v, significant) + "°" for v in values]
+        if len(set(texts)) == 1:
+            return texts[0]
+        return self.join_and(texts)
+
     # ----------------------------------------------------------------- numbers
     def number(self, value: float, significant: int = 4) -> str:
         """``value`` to ``significant`` digits, plain notation where sensible."""
