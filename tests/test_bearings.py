@@ -930,3 +930,14 @@ def test_a_motorcycle_engine_with_its_own_journal_sizes_is_told_only_of_the_pres
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
     assert "The engine is a motorcycle engine: the allowable bearing pressures" in text
     assert "not a car or tractor engine" not in text
+
+
+def test_rolling_supports_are_said_before_the_plain_bearing_verdicts_they_qualify():
+    """A crankcase-scavenged two-stroke's supports are usually rolling: the conclusions say so
+    first, and the oil holes and pressures after it read as a guide."""
+    html = shared_html("two-stroke-1cyl", None, "en").linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+    rolling = text.index("The supports are treated here as plain bearings")
+    assert "so the following conclusions on the pressures and oil holes" in text
+    assert rolling < text.index("its oil hole is best placed at")
+    assert rolling < text.index("The big-end bearing pressure is within")

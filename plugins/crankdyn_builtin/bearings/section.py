@@ -345,6 +345,9 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     t = ctx.t
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
     ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
+    rolling = _rolling_supports(ctx.scene)
+    if rolling:  # said before the plain-bearing verdicts, which it makes a guide only
+        ctx.conclude(t("bearings.conclusion_" + rolling, **_rolling_loads(ctx, r)))
     # the digits of table 7.1, which the conclusion repeats
     conclusion = (
         "bearings.conclusion_single"
@@ -406,7 +409,6 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     loaded = centrifugal_journal(r)
     if loaded is not None:
         ctx.conclude(t("bearings.conclusion_centrifugal", **_centrifugal_params(ctx, r, loaded)))
-    rolling = _rolling_supports(ctx.scene)
     pressures = _pressure_conclusion(ctx, r)
     # another engine than a car's or a tractor's: said before the verdicts it qualifies, which
     # then read as what those pressures would need
@@ -415,8 +417,6 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
         ctx.conclude(guided)
     if pressures:
         ctx.conclude(pressures)
-    if rolling:  # the plain-bearing figures above are a guide only for such supports
-        ctx.conclude(t("bearings.conclusion_" + rolling, **_rolling_loads(ctx, r)))
 
 
 #: The applications whose engines the car and tractor engines' allowable pressures only guide.
