@@ -941,3 +941,22 @@ def test_rolling_supports_are_said_before_the_plain_bearing_verdicts_they_qualif
     assert "so the following conclusions on the pressures and oil holes" in text
     assert rolling < text.index("its oil hole is best placed at")
     assert rolling < text.index("The big-end bearing pressure is within")
+
+
+def test_a_single_cranks_journal_force_names_the_counterweights_force_it_includes():
+    """A V-twin's one crank carries counterweights: formula F_1 is followed by their specific
+    centrifugal force, m·r·ω²/F_p of the balancing section's counterweights."""
+    from conftest import V_TWIN_ENGINE
+
+    changes = {"engine": V_TWIN_ENGINE}
+    run = shared_run("v8-petrol", changes, ("bearings", "balancing"))
+    scene = run.scene
+    (counterweight,) = run.outputs["balancing"].results["counterweights"]
+    area = math.pi * scene.engine.bore**2 / 4
+    expected = counterweight["mass_radius_kg_m"] * scene.engine.angular_velocity_rad_s**2 / area
+    r = run.outputs["bearings"].results
+    assert r["counterweight_specific_force_Pa"] == [pytest.approx(expected, rel=1e-9)]
+    html = shared_html("v8-petrol", changes, "en", ("bearings", "balancing")).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    printed = re.search(r"their specific centrifugal force, ([\d.]+) MPa", text)
+    assert float(printed.group(1)) == pytest.approx(expected / 1e6, abs=5e-4)

@@ -400,6 +400,10 @@ def run(scene, inputs) -> StageOutput:
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "counterweight_cranks": [k + 1 for k in range(cranks) if cw_t[k] or cw_z[k]],
+        #: each crank's counterweights' specific centrifugal force (magnitude), Pa
+        "counterweight_specific_force_Pa": [
+            float(np.hypot(cw_t[k], cw_z[k])) for k in range(cranks)
+        ],
         **_journal_results(journals, bearing, centrifugal * area, d_main, w_main, area),
         "crank_centrifugal_N": abs(loads.centrifugal_Pa) * area,
         "rod_bearings": rod_results,
