@@ -835,7 +835,8 @@ def test_the_within_limits_sentence_quotes_the_pressures_as_the_table_prints_the
 
 
 @pytest.mark.parametrize(
-    ("application", "said"), [("motorcycle", True), ("marine", True), ("automotive", False)]
+    ("application", "said"),
+    [("motorcycle", True), ("marine", True), ("outboard", True), ("automotive", False)],
 )
 def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_engine(
     application, said
@@ -847,6 +848,7 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
     from conftest import shared_html
 
     changes = {"engine": {"application": application}}
+    kind = "an outboard engine" if application == "outboard" else f"a {application} engine"
     html = shared_html("petrol-1cyl", changes, "en", ("bearings",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
     # the journal sizes are taken from car proportions too: one sentence says both only guide
@@ -855,10 +857,10 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
     )
     assert (guide in text) is said
     if said:
-        assert f"The engine is a {application} engine, not a car or tractor engine" in text
-        assert text.count(f"The engine is a {application} engine") == 2  # and the conclusions'
+        assert f"The engine is {kind}, not a car or tractor engine" in text
+        assert text.count(f"The engine is {kind}") == 2  # and the conclusions'
     # and the conclusions, which repeat the verdicts, say so too, before them
-    concluded = f"The engine is a {application} engine, so the allowable bearing pressures the"
+    concluded = f"The engine is {kind}, so the allowable bearing pressures the"
     assert (concluded in text) is said
     if said:  # before the verdicts it qualifies
         assert text.rindex(concluded) < text.rindex("The big-end bearing pressure is within")

@@ -119,7 +119,7 @@ def test_a_v_engines_crank_star_names_cylinder_1L_in_russian():
     assert _first_cylinder(inline) == "1"
 
 
-@pytest.mark.parametrize("application", ["marine", "motorcycle"])
+@pytest.mark.parametrize("application", ["marine", "outboard", "motorcycle"])
 def test_a_boat_or_motorcycle_engines_take_off_end_is_its_drive_not_a_flywheel(application):
     """An outboard motor's flywheel sits at the other end from its drive, and a motorcycle's
     alternator rotor at the other end from its primary drive: their journals name the power

@@ -754,7 +754,7 @@ def test_a_v_twins_note_speaks_of_one_crank_and_its_side_by_side_rods():
     html = shared_html("v8-petrol", changes, "uk")
     html = html.linked_html if hasattr(html, "linked_html") else html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
-    assert "Порядок роботи циліндрів 1Л–1П; інтервали між спалахами: 405; 315°." in text
+    assert "Порядок роботи циліндрів 1Л–1П; інтервали між спалахами: 405° і 315°." in text
     assert "схема колін (відставання" not in text
     assert "зсув шатунів уздовж шийки і його моменти розглянуто після таблиці сил" in text
     assert "Від цього зміщення сили інерції дають поздовжні моменти" in text

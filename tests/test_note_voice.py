@@ -245,7 +245,7 @@ def test_an_uneven_firing_is_explained_by_the_cranks_in_ordinary_text():
     assert sentence.startswith("<p>"), sentence  # no check-bad (red bold) paragraph
     assert (
         "раз за цикл (720° повороту колінчастого вала), і за схеми колін 0; 180° інтервали між "
-        "спалахами становлять 180; 540° замість рівних 360°."
+        "спалахами становлять 180° і 540° замість рівних 360°."
     ) in _text(sentence)
     assert "зазначено в завданні" not in html
 

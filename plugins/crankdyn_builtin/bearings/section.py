@@ -420,7 +420,7 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
 
 
 #: The applications whose engines the car and tractor engines' allowable pressures only guide.
-OTHER_APPLICATIONS = ("stationary", "marine", "aircraft", "motorcycle")
+OTHER_APPLICATIONS = ("stationary", "marine", "outboard", "aircraft", "motorcycle")
 
 
 def _guided_application(ctx, r) -> str:

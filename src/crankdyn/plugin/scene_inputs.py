@@ -31,9 +31,12 @@ def power_take_off(scene) -> str:
     end; a motorcycle's primary drive, whose alternator rotor, the flywheel, is usually at the
     other end) or ``"flywheel"``."""
     application = scene.engine.application if scene is not None else None
-    return {"aircraft": "propeller", "marine": "drive", "motorcycle": "drive"}.get(
-        application or "", "flywheel"
-    )
+    return {
+        "aircraft": "propeller",
+        "marine": "drive",
+        "outboard": "drive",
+        "motorcycle": "drive",
+    }.get(application or "", "flywheel")
 
 
 def engine_layout(scene) -> lay.EngineLayout:

@@ -194,7 +194,10 @@ class Engine(_Strict):
     #: propeller) and says whether the textbook's journal proportions (those of automotive and
     #: tractor engines) are the engine's kind; None: not stated
     application: (
-        Literal["automotive", "tractor", "stationary", "marine", "aircraft", "motorcycle"] | None
+        Literal[
+            "automotive", "tractor", "stationary", "marine", "outboard", "aircraft", "motorcycle"
+        ]
+        | None
     ) = None
     #: None: the registry's default mechanism (``Mechanism.default``), filled in when the scene is
     #: loaded with a registry (``scene_from_dict(..., registry=)``) or planned
