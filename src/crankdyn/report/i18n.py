@@ -225,11 +225,18 @@ class Translator:
         return format_list(list(items), locale=self.locale)
 
     def degrees_and(self, values, significant: int = 4) -> str:
-        """Angles as one list: "450° і 270°"; equal angles once ("180°": every interval is 180°)."""
+        """Angles as one list: "450° і 270°"; equal angles once ("180°": every interval is 180°);
+        a list that repeats a shorter one, as that one taken in turn ("по черзі 90° і 150°")."""
         texts = [self.number_g(v, significant) + "°" for v in values]
-        if len(set(texts)) == 1:
+        period = next(
+            p
+            for p in range(1, len(texts) + 1)
+            if len(texts) % p == 0 and texts == texts[:p] * (len(texts) // p)
+        )
+        if period == 1:
             return texts[0]
-        return self.join_and(texts)
+        listed = self.join_and(texts[:period])
+        return listed if period == len(texts) else self("doc.degrees_in_turn", angles=listed)
 
     # ----------------------------------------------------------------- numbers
     def number(self, value: float, significant: int = 4) -> str:
