@@ -340,3 +340,28 @@ def test_given_data_table_names_the_peak_fraction_taken_instead_of_the_given():
     assert cell.group(1) == f"0.99 (taken: {taken:.3f}, see section {section.group(1)})"
     plain = shared_html("petrol-1cyl", None, "en").linked_html
     assert "(taken:" not in plain
+
+
+@pytest.mark.parametrize("rho", [None, 1.45])
+def test_a_diesel_without_its_pre_expansion_ratio_is_warned_of_the_lowered_peak(rho):
+    """A diesel taken at ρ = 1 (none given): the expansion line falls below p_z a few degrees after
+    TDC, so p_z′ is lowered well below the given p_z; the console says how far and asks for ρ.
+    With the example's own ρ = 1.45 nothing is said."""
+    from conftest import shared_run
+
+    from crankdyn.report.plausibility import console_lines, warnings
+
+    changes = {"cycle": {"pre_expansion_ratio": rho}}
+    run = shared_run("diesel-1cyl", changes, stages=["indicator"])
+    r = run.outputs["indicator"].results
+    lines = console_lines(warnings(run.scene, REGISTRY, run), REGISTRY)
+    named = [line for line in lines if "cycle.pre_expansion_ratio" in line]
+    if rho is not None:
+        assert not named, lines
+        return
+    assert r["peak_lowered"] is not None and not r["peak_lowered"]["given"]
+    (line,) = named
+    share = round(100 * (1 - r["peak_pressure_fraction"]))
+    assert share > 3  # the given p_z is far from reached
+    peak = r["peak_pressure_rounded_Pa"] / 1e6
+    assert f"p_z' = {peak:.2f} MPa is {share} % below the given p_z" in line

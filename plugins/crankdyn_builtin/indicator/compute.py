@@ -566,8 +566,21 @@ def _mean_pressure_check(scene, results=None) -> list[tuple[str, dict]]:
 
 
 def _peak_lowered(scene, results=None) -> list[tuple[str, dict]]:
-    """A given p_z′/p_z that would put z′ above the theoretical diagram (and was lowered)."""
+    """A given p_z′/p_z that would put z′ above the theoretical diagram (and was lowered); or a
+    diesel's default p_z′ lowered because no pre-expansion ratio was given (ρ = 1: the whole heat
+    at constant volume, so the expansion line falls below p_z within a few degrees of TDC)."""
     lowered = (results or {}).get("peak_lowered")
+    if lowered and not lowered["given"] and _diesel_without_pre_expansion(scene):
+        return [
+            (
+                "indicator.plausibility_peak_lowered_isochoric",
+                {
+                    "peak": round(results["peak_pressure_rounded_Pa"] / 1e6, 2),
+                    "given": round(scene.cycle.max_pressure / 1e6, 2),
+                    "share": round(100 * (1 - results["peak_pressure_fraction"])),
+                },
+            )
+        ]
     if not lowered or not lowered["given"]:
         return []
     return [
@@ -580,6 +593,16 @@ def _peak_lowered(scene, results=None) -> list[tuple[str, dict]]:
             },
         )
     ]
+
+
+def _diesel_without_pre_expansion(scene) -> bool:
+    """A diesel whose scene gives no pre-expansion ratio ρ (taken as 1)."""
+    cycle = scene.cycle
+    return (
+        cycle is not None
+        and cycle.ignition == "diesel"
+        and "pre_expansion_ratio" not in cycle.model_fields_set
+    )
 
 
 def _diesel_peak(scene, results=None) -> list[tuple[str, dict]]:
