@@ -116,7 +116,11 @@ def test_the_number_of_cylinders_takes_no_letter_of_the_running_index():
 
 
 def test_the_counterweights_force_is_listed_among_the_symbols():
-    html = shared_html("v8-petrol", None, "uk").linked_html
+    """A 270° twin's cranks leave a centrifugal resultant, which its counterweights' forces add
+    up to with F."""
+    from conftest import TWIN_270_ENGINE
+
+    html = shared_html("inline3-petrol", {"engine": TWIN_270_ENGINE}, "uk").linked_html
     assert re.search(r"<i>Q</i> = <i>F</i> \+ Σ<i>C</i>", html)
     assert "<i>Q</i>" in _symbol_rows(html)
 
@@ -278,3 +282,19 @@ def test_a_twin_on_one_crank_lists_its_intervals_and_counterweights_as_prose():
     assert "становлять 405° і 315° замість рівних 360°" in text
     assert "на щоках коліна 1" not in text
     assert "дві противаги на щоках коліна і один зрівноважувальний вал" in text
+
+
+@pytest.mark.parametrize("example", ["v8-petrol", "inline3-petrol"])
+def test_counterweights_of_a_force_balanced_shaft_are_said_to_form_a_couple(example):
+    """Cranks whose centrifugal and first-order resultants are zero (a cross-plane V8, an in-line
+    three): the counterweights' forces add up to zero and form a couple, not "Q = F + ΣC"."""
+    text = _text(shared_html(example, None, "en").linked_html)
+    assert "forces add up to zero too and form a couple that cancels the moments" in text
+    assert "add up to Q = F + ΣC" not in text
+
+
+def test_a_single_cylinders_counterweights_still_add_up_to_f_plus_c():
+    """One crank: its counterweight balances the co-rotating first-order half and C."""
+    text = _text(shared_html("petrol-1cyl", None, "en").linked_html)
+    assert "inertia force Q = F + C, F being that half of the first-order force" in text
+    assert "form a couple that cancels" not in text
