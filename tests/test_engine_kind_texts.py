@@ -298,3 +298,14 @@ def test_a_single_cylinders_counterweights_still_add_up_to_f_plus_c():
     text = _text(shared_html("petrol-1cyl", None, "en").linked_html)
     assert "inertia force Q = F + C, F being that half of the first-order force" in text
     assert "form a couple that cancels" not in text
+
+
+@pytest.mark.parametrize(
+    ("example", "said"),
+    [
+        ("petrol-1cyl-uk", "вісь циліндра проходить через вісь колінчастого вала"),
+        ("inline4-petrol", "the cylinder axes pass through the crankshaft axis"),
+    ],
+)
+def test_the_mechanism_is_described_with_as_many_cylinder_axes_as_there_are(example, said):
+    assert said in _text(shared_html(example).linked_html)

@@ -859,10 +859,14 @@ def _catalog_section(registry, stage: str) -> str:
 def mechanism_key(engine, t) -> str:
     """The catalog key (``mechanism.<key>``) of the engine's mechanism as the note describes it:
     with articulated rods, ``<mechanism>_articulated`` where a catalog describes it (a mechanism
-    whose cylinder axes meet the shaft's holds that for its master rod only)."""
+    whose cylinder axes meet the shaft's holds that for its master rod only); with several
+    cylinders, ``<mechanism>_cylinders`` where a catalog has it."""
     articulated = f"{engine.mechanism}_articulated"
     if getattr(engine, "rod_type", None) == "articulated" and t.has(f"mechanism.{articulated}"):
         return articulated
+    several = f"{engine.mechanism}_cylinders"  # "the cylinders' axes pass through …"
+    if (getattr(engine, "cylinders", 1) or 1) > 1 and t.has(f"mechanism.{several}"):
+        return several
     return engine.mechanism
 
 
