@@ -309,3 +309,13 @@ def test_a_single_cylinders_counterweights_still_add_up_to_f_plus_c():
 )
 def test_the_mechanism_is_described_with_as_many_cylinder_axes_as_there_are(example, said):
     assert said in _text(shared_html(example).linked_html)
+
+
+@pytest.mark.parametrize(("stages", "fitted"), [(None, True), (("torque",), False)])
+def test_the_crank_load_conclusion_says_it_leaves_out_the_counterweights(stages, fitted):
+    """The torque section's crank loads are the cranks' own: where the balancing fits
+    counterweights (a V8's), the conclusion says they are not in it; without the balancing
+    there are none to leave out."""
+    text = _text(shared_html("v8-petrol", None, "en", stages).linked_html)
+    assert ("without the crankshaft's counterweights" in text.replace("&#39;", "'")) is fitted
+    assert "The largest resultant load on the crank from all its cylinders" in text

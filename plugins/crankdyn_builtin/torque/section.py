@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from functools import partial
 
+import numpy as np
 from markupsafe import Markup
 
+from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.scene_inputs import power_take_off
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, exact_decimals, sample_rows
@@ -299,9 +301,12 @@ def _conclude(ctx, r) -> None:
 def _conclude_crank_load(ctx, r, table_number) -> None:
     """The largest resultant load on a crank from all the cylinders it carries (table B.4)."""
     worst = max((d["Q"] for d in r["dangerous"]), key=lambda v: v["q_Pa"])
+    fitted = ctx.data(COUNTERWEIGHTS)
+    # the loads of the tables are the cranks' own, before the counterweights the balancing fits
+    with_counterweights = fitted is not None and bool(np.any(fitted.centrifugal_N))
     ctx.conclude(
         ctx.t(
-            "torque.conclusion_crank_load",
+            "torque.conclusion_crank_load" + ("_counterweights" if with_counterweights else ""),
             q_max=ctx.num(worst["q_Pa"] / 1e6),
             q_angle=ctx.angle_text(worst["shaft_angle_deg"]),
             table=table_number,
