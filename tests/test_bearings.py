@@ -698,7 +698,8 @@ def test_a_journal_of_the_largest_mean_load_is_named_when_the_peak_picks_others(
 
 def test_rods_side_by_side_say_how_far_their_planes_lie_off_the_pins_middle():
     """A V8's two rods on a pin: each plane half a big-end bearing's width off the middle, which
-    over the example's crank spacing a = 112 mm shifts the journals' shares by that ratio."""
+    over the example's crank spacing a = 112 mm shifts the journals' shares by that ratio (the
+    loads: test_each_side_by_side_rod_loads_the_main_journals_by_its_own_plane)."""
     r = shared_run("v8-petrol", None, ("bearings",)).outputs["bearings"].results
     width = r["rod_bearings"][0]["width_m"]
     assert r["rod_plane_offset_m"] == pytest.approx(width / 2, rel=1e-12)
@@ -706,7 +707,7 @@ def test_rods_side_by_side_say_how_far_their_planes_lie_off_the_pins_middle():
     text = re.sub(
         r"\s+", " ", re.sub(r"<[^>]+>", " ", shared_html("v8-petrol", None, "en").linked_html)
     )
-    assert f"lies {width / 2 * 1e3:.3g} mm off the middle" in text
+    assert f"lies {width / 2 * 1e3:.3g} mm off the pin's middle" in text.replace("&#39;", "'")
     # one rod per pin: nothing to say
     assert (
         "rod_plane_offset_m"
@@ -962,3 +963,42 @@ def test_a_single_cranks_journal_force_names_the_counterweights_force_it_include
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
     printed = re.search(r"their specific centrifugal force, ([\d.]+) MPa", text)
     assert float(printed.group(1)) == pytest.approx(expected / 1e6, abs=5e-4)
+
+
+def test_each_side_by_side_rod_loads_the_main_journals_by_its_own_plane():
+    """A V8's rods on crank 1: 1L's plane lies p/2 towards the free end, 1R's p/2 away from it, so
+    the free-end journal 0 takes 0.5 + (p/2)/a of 1L's force and 0.5 − (p/2)/a of 1R's
+    (textbook eq. 48-49 for each rod). Doubling p changes journal 0's load by (f_1R − f_1L)·p/(2a)
+    in crank 1's axes (the rods' centrifugal forces cancel), f of each cylinder at its own cycle
+    angle from the forces table."""
+    width = (
+        shared_run("v8-petrol", None, ("bearings",))
+        .outputs["bearings"]
+        .results["rod_bearings"][0]["width_m"]
+    )
+    p = 1e3 * width  # mm: the default distance between the rods' planes, given explicitly
+    runs = [
+        shared_run("v8-petrol", {"balancing": {"rod_offset": f"{k * p} mm"}}, ("bearings",))
+        for k in (1, 2)
+    ]
+    tables = [r.outputs["bearings"].tables["bearings"] for r in runs]
+    forces = runs[0].outputs["forces"].tables["forces"]
+    phases = {
+        c["cylinder"]: c["cycle_delay_deg"]
+        for c in runs[0].outputs["bays"].results["cylinder_phases"]
+    }
+    angle = np.asarray(forces["crank_angle_deg"])
+    a = runs[0].scene.engine.cylinder_spacing
+
+    def at(column, cylinder):
+        values = np.asarray(forces[column])
+        return np.interp((angle - phases[cylinder]) % 720.0, angle, values, period=720.0)
+
+    for axis, column in (("t", "tangential_Pa"), ("z", "radial_Pa")):
+        change = np.asarray(tables[1][f"journal0_{axis}_Pa"]) - np.asarray(
+            tables[0][f"journal0_{axis}_Pa"]
+        )
+        expected = (at(column, "1R") - at(column, "1L")) * (p * 1e-3) / (2 * a)
+        scale = np.max(np.abs(expected))
+        assert scale > 1e4  # a change worth checking: well above round-off
+        np.testing.assert_allclose(change, expected, rtol=0, atol=1e-9 * scale)

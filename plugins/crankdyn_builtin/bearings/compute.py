@@ -303,10 +303,10 @@ def _master_rod_bearings(pin_t, pin_z, angle, motion, layout) -> list[tuple]:
     return out
 
 
-def _own_rod_bearings(forces, bays, motion, layout, step_deg: float) -> list[tuple]:
-    """(crank, cylinder, t, z) of every big-end bearing of central rods side by side on shared
-    pins: each from its own cylinder's forces (shifted to its cycle delay, as the bays sum them)
-    and its own rod's centrifugal force, in its own rod's axes."""
+def _own_rod_pin_forces(forces, bays, motion, layout, step_deg: float) -> list[tuple]:
+    """(crank, cylinder, t, z + c_r, local crank angle, rod angle) of every central rod side by
+    side on a shared pin: its own cylinder's forces (shifted to its cycle delay, as the bays sum
+    them) and its own rod's centrifugal force, on the pin in the crank's axes."""
     angle = motion.crank_angle_deg
     revolution = int(round(360 / (angle[1] - angle[0])))
     tdc = motion.extra.get("crank_angle_at_tdc_rad", 0.0)
@@ -316,26 +316,35 @@ def _own_rod_bearings(forces, bays, motion, layout, step_deg: float) -> list[tup
         for c in layout.bay(k):
             shift = lay.grid_shift(c.firing_delay_deg, step_deg)
             local = np.radians((angle - c.firing_delay_deg) % 360.0)
-            rod_t, rod_z = brg.own_rod_bearing_load(
-                np.roll(forces.tangential_Pa, shift),
-                np.roll(forces.radial_Pa, shift),
-                c_one_rod,
-                local + tdc,
-                _rod_angle(motion, local, revolution),
+            pin_t, pin_z = brg.crank_pin_load(
+                np.roll(forces.tangential_Pa, shift), np.roll(forces.radial_Pa, shift), c_one_rod
             )
-            out.append((k, c.label, rod_t, rod_z))
+            beta = _rod_angle(motion, local, revolution)
+            out.append((k, c.label, pin_t, pin_z, local + tdc, beta))
     return out
 
 
-def _rod_bearings(scene, inputs, pin_t, pin_z) -> tuple[list[tuple], int]:
-    """(the big-end bearings' (crank, cylinder, t, z), the number of bearings on one pin)."""
+def _own_rod_bearings(pin_forces: list[tuple]) -> list[tuple]:
+    """(crank, cylinder, t, z) of every big-end bearing of central rods side by side on shared
+    pins (:func:`_own_rod_pin_forces`), in its own rod's axes."""
+    return [
+        (k, label, *brg.rod_bearing_load(t, z, crank_angle, beta))
+        for k, label, t, z, crank_angle, beta in pin_forces
+    ]
+
+
+def _rod_bearings(scene, inputs, pin_t, pin_z) -> tuple[list[tuple], int, list[tuple]]:
+    """(the big-end bearings' (crank, cylinder, t, z), the number of bearings on one pin, each
+    rod's (crank, cylinder, t, z) on the pin in crank axes where several share it, else [])."""
     bays, motion = inputs[BAY_LOADS], inputs[KINEMATICS]
     layout = bays.layout
     per_pin = brg.big_end_bearings_on_pin(scene.engine.rod_type, layout.cylinders_per_bay)
     if per_pin == 1:
-        return _master_rod_bearings(pin_t, pin_z, motion.crank_angle_deg, motion, layout), 1
-    rods = _own_rod_bearings(inputs[FORCES], bays, motion, layout, scene.analysis.angle_step_deg)
-    return rods, per_pin
+        return _master_rod_bearings(pin_t, pin_z, motion.crank_angle_deg, motion, layout), 1, []
+    step = scene.analysis.angle_step_deg
+    pin_forces = _own_rod_pin_forces(inputs[FORCES], bays, motion, layout, step)
+    on_pin = [(k, label, t, z) for k, label, t, z, _, _ in pin_forces]
+    return _own_rod_bearings(pin_forces), per_pin, on_pin
 
 
 def _rod_bearing_results(rods, per_pin: int, area, d_pin, w_pin, angle) -> list[dict]:
@@ -368,11 +377,14 @@ def run(scene, inputs) -> StageOutput:
     d_pin, w_pin, d_main, w_main, defaulted = _dimensions(scene, opts, rods_per_pin)
     _check_drawn_numbers(opts, cranks)
     pin_t, pin_z = _pin_loads(loads, bays)
-    rods, per_pin = _rod_bearings(scene, inputs, pin_t, pin_z)
+    rods, per_pin, on_pin = _rod_bearings(scene, inputs, pin_t, pin_z)
+    planes_apart = _planes_apart_m(scene, layout, opts) if per_pin > 1 else 0.0
+    spacing = scene.engine.cylinder_spacing
+    rod_planes = _rod_planes(on_pin, per_pin, planes_apart, spacing, opts.span_ratio)
     # with the counterweights the balancing section fits (their centrifugal force on the webs)
     cw_t, cw_z = _counterweight_loads_Pa(inputs.get(COUNTERWEIGHTS), cranks, area)
     journal, bearing, centrifugal = _main_journal_loads(
-        loads, motion, layout, (cw_t, cw_z), opts.span_ratio
+        loads, motion, layout, (cw_t, cw_z), opts.span_ratio, rod_planes
     )
     pins, wear_pins = zip(
         *[
@@ -409,12 +421,7 @@ def run(scene, inputs) -> StageOutput:
         "rod_bearings": rod_results,
         # big-end bearings side by side on one crank pin, each carrying its own rod only
         **({"rod_bearings_per_pin": per_pin} if per_pin > 1 else {}),
-        **_rod_plane_shift(
-            _planes_apart_m(scene, bays.layout, opts),
-            per_pin,
-            scene.engine.cylinder_spacing,
-            opts.span_ratio,
-        ),
+        **_rod_plane_shift(planes_apart, per_pin, spacing, opts.span_ratio),
         **_drawn_diagrams(opts, pins, journals),
         "centrifugal_rod_Pa": bays.centrifugal_rod_Pa,
         "centrifugal_Pa": bays.centrifugal_Pa,  # the crank's, in the main journals' loads
@@ -511,10 +518,43 @@ def _rod_plane_shift(planes_apart_m: float, per_pin: int, spacing_m, span_ratio:
     return {"rod_plane_offset_m": offset, "rod_plane_share_shift": share}
 
 
-def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: float):
+def _rod_plane_transfer(rod_planes, positions):
+    """Engine-frame (a, n) of what each crank's rods side by side move from the journal before
+    the crank to the journal after it, Pa, arrays (cranks, N): Σ f_m x_m / l over the crank's
+    rods, f_m a rod's force on the pin (its cylinder's t, z and its rod's centrifugal force,
+    crank axes) and x_m its plane's distance from the pin's middle towards the journal after
+    (textbook eq. 48-49 for each rod at its own l′)."""
+    forces, offsets_over_span = rod_planes
+    shift_t = np.einsum("kmn,km->kn", forces[0], offsets_over_span)
+    shift_z = np.einsum("kmn,km->kn", forces[1], offsets_over_span)
+    return brg.crank_force_engine_frame(shift_t, shift_z, 0.0, positions)
+
+
+def _rod_planes(rods_in_crank_axes, per_pin: int, planes_apart_m: float, spacing_m, span_ratio):
+    """(forces (t, z) of each crank's rods, arrays (cranks, rods, N); each rod plane's offset from
+    the pin's middle over the span, (cranks, rods)) for the journal loads, the bay's first
+    cylinder's rod (bank L's) nearest the free end; None where the rods share one plane or the
+    span is not known (no crank spacing, a crank off the middle of its span)."""
+    if per_pin == 1 or not planes_apart_m or not spacing_m or span_ratio != 0.5:
+        return None
+    by_crank: dict[int, list] = {}
+    for k, _, t, z in rods_in_crank_axes:
+        by_crank.setdefault(k, []).append((t, z))
+    cranks = sorted(by_crank)
+    t = np.array([[f[0] for f in by_crank[k]] for k in cranks])
+    z = np.array([[f[1] for f in by_crank[k]] for k in cranks])
+    offsets = (np.arange(per_pin) - 0.5 * (per_pin - 1)) * planes_apart_m / spacing_m
+    return (t, z), np.tile(offsets, (len(cranks), 1))
+
+
+def _main_journal_loads(
+    loads, motion, layout, counterweight_Pa, span_ratio: float, rod_planes=None
+):
     """((t, z) of the bearings' force on each main journal in the preceding crank's axes,
     (t, z) of the journals' force on each main bearing in the engine's axes, the mean magnitude
-    of the part of each journal's load the cranks' centrifugal forces alone give), Pa."""
+    of the part of each journal's load the cranks' centrifugal forces alone give), Pa.
+    ``rod_planes`` (:func:`_rod_planes`): rods side by side, each rod's force shared between the
+    journals by its own plane; None: every force in the pin's middle plane."""
     # Main journals: each crank a beam on two supports; forces in the engine frame.
     # each crank's angle from the engine's vertical (the cylinder axis of a one-cylinder engine)
     cranks = layout.cranks
@@ -530,6 +570,12 @@ def _main_journal_loads(loads, motion, layout, counterweight_Pa, span_ratio: flo
     )
     share_after = np.full(cranks, span_ratio)
     ja, jn = brg.journal_loads(fa, fn, 1.0 - share_after, share_after)
+    if rod_planes is not None:  # each rod's force shared by its own plane, not the pin's middle
+        shift_a, shift_n = _rod_plane_transfer(rod_planes, positions)
+        ja[1:] += shift_a
+        jn[1:] += shift_n
+        ja[:-1] -= shift_a
+        jn[:-1] -= shift_n
     # Journal diagram: force of the bearing on the journal (the reaction, -J) in the axes of the
     # preceding crank (crank 1 for the free-end journal); bearing diagram: J in engine axes.
     journal_t, journal_z = np.zeros_like(ja), np.zeros_like(ja)
