@@ -319,3 +319,15 @@ def test_the_crank_load_conclusion_says_it_leaves_out_the_counterweights(stages,
     text = _text(shared_html("v8-petrol", None, "en", stages).linked_html)
     assert ("without the crankshaft's counterweights" in text.replace("&#39;", "'")) is fitted
     assert "The largest resultant load on the crank from all its cylinders" in text
+
+
+@pytest.mark.parametrize(
+    ("example", "language", "said"),
+    [
+        ("inline4-petrol", "en", "The cylinders fire every 180°."),
+        ("v8-petrol", "uk", "Інтервал між спалахами – 90°."),
+        ("inline3-petrol", "ru", "Интервал между вспышками – 240°."),
+    ],
+)
+def test_an_even_firing_engine_names_its_one_interval(example, language, said):
+    assert said in _text(shared_html(example, None, language).linked_html)
