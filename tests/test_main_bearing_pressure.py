@@ -74,7 +74,7 @@ def test_an_unbalanced_inline_fours_centre_main_bearing_is_above_the_allowable_m
     section = note.section("bearings")
     sentence = section[section.index("Наибольшее среднее давление на коренной подшипник") :]
     assert f"подшипник {p_mean:.2f} МПа".replace(".", ",") in sentence
-    assert "(оба – у шейки 2–3)" in sentence
+    assert "(оба – на шейке 2–3)" in sentence
     assert "допустимы среднее давление до 12 МПа и наибольшее до 20 МПа [" in sentence
     assert "превышено допустимое среднее давление" in sentence
     assert note.cited(sentence).startswith("Колчин А. И., Демидов В. П.")
