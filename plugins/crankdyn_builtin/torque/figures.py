@@ -18,8 +18,9 @@ def _output_figure(angle, torque_Nm, mean_Nm, cycle_deg, t):
     )
 
 
-def _journals_figure(f, cranks, cycle_deg, t):
-    """The running torque on each main journal over the cycle."""
+def _journals_figure(f, cranks, cycle_deg, t, newton_metres_per_pascal: float | None = None):
+    """The running torque on each main journal over the cycle: the specific tangential force t_k
+    (table B.3) and, on the right, the torque it is, t_k·F_p·R (``newton_metres_per_pascal``)."""
     angle = f["crank_angle_deg"]
     fig, ax = new_figure(16, 9)
     for k in range(1, cranks + 1):
@@ -29,6 +30,10 @@ def _journals_figure(f, cranks, cycle_deg, t):
     ax.set_ylabel(
         "t_k, " + t("unit.MPa")
     )  # the running torque as a specific tangential force (table B.3)
+    if newton_metres_per_pascal:
+        scale = newton_metres_per_pascal * 1e6  # N·m per MPa
+        right = ax.secondary_yaxis("right", functions=(lambda v: v * scale, lambda m: m / scale))
+        right.set_ylabel("M_k, " + t("unit.Nm"))
     # short labels under a title: "main journal after crank k" in three columns overran the axes
     ax.legend(loc="upper right", fontsize=8, title=t("torque.journals_legend_title"))
     return fig
