@@ -262,7 +262,7 @@ def test_the_pressure_at_tdc_is_stated_and_its_rise_listed_among_the_values_take
     ratio = f"{1 + 0.5e6 / p_c:.4g}".replace(".", ",")
     assert f"Звичайне підвищення на 0,5 МПа [1, підрозд. 3.1] дало б тут pc″ = {ratio}·pc" in text
     taken = text[text.index("Таблиця 1.2 – Прийняті величини") :][:600]
-    assert "Підвищення тиску у ВМТ над кінцем стиснення" in taken
+    assert "Перевищення тиску у ВМТ над тиском кінця стиснення" in taken
     diesel = shared_run("diesel-1cyl", stages=["indicator"]).outputs["indicator"].results
     assert diesel["pressure_rise_to_tdc_Pa"] == 0.5e6 and diesel["pressure_rise_limited"] is None
 
