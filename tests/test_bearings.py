@@ -1002,3 +1002,23 @@ def test_each_side_by_side_rod_loads_the_main_journals_by_its_own_plane():
         scale = np.max(np.abs(expected))
         assert scale > 1e4  # a change worth checking: well above round-off
         np.testing.assert_allclose(change, expected, rtol=0, atol=1e-9 * scale)
+
+
+@pytest.mark.parametrize(("example", "frame_deg"), [("v8-petrol", 45.0), ("inline4-petrol", 0.0)])
+def test_the_main_bearing_diagram_is_drawn_in_the_engines_vertical_axes(example, frame_deg):
+    """A 90° V8's main-bearing load is drawn in axes along its banks' axis of symmetry, 45° from
+    cylinder 1's (the balancing's vertical); an in-line engine's along cylinder 1's axis. The
+    journal's own load (crank 1's axes) turned into those axes gives the bearing's, reversed."""
+    run = shared_run(example, None, ("bearings",))
+    r = run.outputs["bearings"].results
+    f = run.outputs["bearings"].tables["bearings"]
+    assert r["main_bearing_frame_deg"] == frame_deg
+    theta = np.radians(np.asarray(f["crank_angle_deg"]))
+    journal = np.asarray(f["journal0_t_Pa"]) + 1j * np.asarray(f["journal0_z_Pa"])
+    bearing = np.asarray(f["main_bearing0_t_Pa"]) + 1j * np.asarray(f["main_bearing0_z_Pa"])
+    # (t, z) axes turn with the crank: a vector's components in axes turned by φ are its
+    # components in the frame's axes turned back by φ − frame (t = e_t·v, z = e_z·v)
+    turn = np.exp(-1j * (theta - np.radians(frame_deg)))
+    np.testing.assert_allclose(bearing, -journal / turn, atol=1e-6 * np.max(np.abs(journal)))
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", shared_html(example, None, "en").linked_html))
+    assert ("y along the engine's vertical" in text.replace("&#39;", "'")) is (frame_deg != 0)

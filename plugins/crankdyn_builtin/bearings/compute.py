@@ -13,6 +13,7 @@ import numpy as np
 from crankdyn.errors import Problem, SceneError
 from crankdyn.physics import bearings as brg
 from crankdyn.physics import layout as lay
+from crankdyn.physics.balancing import vertical_axis_deg
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.plugin.contracts import (
     BAY_LOADS,
@@ -409,6 +410,8 @@ def run(scene, inputs) -> StageOutput:
             **_dimension_results((d_pin, w_pin, d_main, w_main), defaulted, area_needed),
             **_rod_bearing_needed(rod_results, per_pin, d_pin, _ignition_kind(scene)),
         },
+        #: the main bearings' y axis from cylinder 1's, deg (0: along it; a V's: half its bank angle)
+        "main_bearing_frame_deg": main_bearing_frame_deg(layout),
         "crank_pins": [{"crank": k + 1, **pins[k]} for k in range(cranks)],
         "with_counterweights": bool(np.any(cw_t) or np.any(cw_z)),
         "counterweight_cranks": [k + 1 for k in range(cranks) if cw_t[k] or cw_z[k]],
@@ -547,6 +550,12 @@ def _rod_planes(rods_in_crank_axes, per_pin: int, planes_apart_m: float, spacing
     return (t, z), np.tile(offsets, (len(cranks), 1))
 
 
+def main_bearing_frame_deg(layout) -> float:
+    """The angle of the main bearings' y axis from cylinder 1's, in the direction of rotation:
+    the engine's vertical (:func:`crankdyn.physics.balancing.vertical_axis_deg`)."""
+    return vertical_axis_deg(layout.layout, layout.bank_angle_deg)
+
+
 def _main_journal_loads(
     loads, motion, layout, counterweight_Pa, span_ratio: float, rod_planes=None
 ):
@@ -582,7 +591,9 @@ def _main_journal_loads(
     for j in range(cranks + 1):
         e_t, e_z = brg.crank_axes(positions[max(j - 1, 0)])
         journal_t[j], journal_z[j] = brg.to_frame(-ja[j], -jn[j], e_t, e_z)
-    engine_t, engine_z = brg.crank_axes(np.zeros(1))
+    # the main bearings' axes: the engine's vertical (a V's, W's or boxer's banks' axis of
+    # symmetry, as the balancing takes it; cylinder 1's axis of an in-line or radial engine)
+    engine_t, engine_z = brg.crank_axes(np.radians([main_bearing_frame_deg(layout)]))
     # the cranks' centrifugal forces alone (no counterweights): constant in magnitude, rotating
     none = np.zeros_like(loads.tangential_Pa)
     ca, cn = brg.crank_force_engine_frame(none, none, loads.centrifugal_Pa, positions)

@@ -504,8 +504,11 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     sharing pins (a one bank's), a boxer's (a the offset of opposed cylinders along the shaft),
     a shaft of one crank ("without its crank's mass", not "its cranks' masses"), a W, Y or X
     engine's (its bank angle between adjacent banks), an aircraft engine's (its propeller's
-    inertia where another engine has a flywheel's)."""
+    inertia where another engine has a flywheel's), an engine with banks (its frame along the
+    banks' axis of symmetry)."""
     forms = []
+    if scene.engine.layout in ("V", "W", "Y", "X", "boxer"):
+        forms.append("vertical")  # an engine frame along the banks' axis of symmetry
     if scene.engine.cylinders == 1:
         forms.append("single")
     elif _cylinders_share_pins(scene):
