@@ -331,3 +331,12 @@ def test_the_crank_load_conclusion_says_it_leaves_out_the_counterweights(stages,
 )
 def test_an_even_firing_engine_names_its_one_interval(example, language, said):
     assert said in _text(shared_html(example, None, language).linked_html)
+
+
+def test_a_singles_abstract_names_the_couple_its_side_balance_shaft_leaves():
+    """The balance shaft beside a single's crankshaft balances its force but leaves a couple: the
+    abstract, which lists what stays unbalanced, names it as the balancing section does."""
+    run_text = _text(shared_html("two-stroke-1cyl", None, "en").linked_html)
+    said = "the balance shaft beside the crankshaft leaves a first-order couple of"
+    assert said in run_text
+    assert run_text.index(said) < run_text.index("The counter-rotating shaft lies beside")

@@ -152,6 +152,12 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     couples = rod_offset_items(t, r)
     if couples:  # forces balanced in one plane say nothing of the rods' offset
         finding = t("balancing.finding_rod_offset", finding=finding, items=", ".join(couples))
+    if single and r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
+        finding = t(
+            "balancing.finding_shaft_beside",
+            finding=finding,
+            per=newton_metres(t, r["shaft_beside_couple_per_100mm_Nm"]),
+        )
     return finding
 
 
