@@ -340,3 +340,12 @@ def test_a_singles_abstract_names_the_couple_its_side_balance_shaft_leaves():
     said = "the balance shaft beside the crankshaft leaves a first-order couple of"
     assert said in run_text
     assert run_text.index(said) < run_text.index("The counter-rotating shaft lies beside")
+
+
+@pytest.mark.parametrize(("stages", "fitted"), [(None, True), (("forces",), False)])
+def test_a_singles_crank_load_conclusion_says_it_leaves_out_the_counterweights(stages, fitted):
+    """A single's largest crank load q is the crank's own: with the balancing's counterweights
+    fitted the conclusion says they are not in it."""
+    text = _text(shared_html("petrol-1cyl", None, "en", stages).linked_html)
+    assert "The largest resultant load on the crank" in text
+    assert ("rotating masses, without the counterweights;" in text) is fitted

@@ -8,6 +8,7 @@ import numpy as np
 
 from crankdyn.physics.extrema import first_argmax
 from crankdyn.physics.layout import cylinder_labels
+from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput
 from crankdyn.report.context import add_extreme_rows, sample_rows
@@ -192,9 +193,14 @@ def _conclude(ctx, f, r, whose: str) -> None:
         )
     if whose == "_cylinder" and ctx.scene.engine.rod_type == "articulated":
         return  # the master cylinder's side force with the slave rods: the bays section says it
+    fitted = ctx.data(COUNTERWEIGHTS)
+    # q is the crank's own load, before the counterweights the balancing fits
+    counterweights = (
+        whose != "_cylinder" and fitted is not None and bool(np.any(fitted.centrifugal_N))
+    )
     ctx.conclude(
         t(
-            "forces.conclusion_loads" + whose,
+            "forces.conclusion_loads" + whose + ("_counterweights" if counterweights else ""),
             q_max=ctx.num(r["resultant_max_Pa"] / 1e6),
             q_angle=ctx.angle_text(r["resultant_max_crank_angle_deg"]),
             # signed and with the digits the section's text and table print it with
