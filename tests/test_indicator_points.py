@@ -287,7 +287,7 @@ def test_the_theoretical_diagram_integrated_on_the_grid_is_checked_against_its_c
     html = shared_html("petrol-1cyl-uk", None, "uk").linked_html
     text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
     numeric = f"{check['numeric_Pa'] / 1e6:.4f}".replace(".", ",")
-    assert f"теоретичної діаграми на сітці розрахунку дає {numeric} МПа" in text
+    assert f"обчислена чисельним інтегруванням, дає pi′ + (pa − pr) = {numeric} МПа" in text
     two = shared_run("two-stroke-1cyl", stages=["indicator"]).outputs["indicator"].results
     assert two["closed_form_check"] is None
 
