@@ -19,6 +19,7 @@ def test_the_journal_torque_figure_reads_in_newton_metres_too():
     f = run.outputs["torque"].tables["torque"]
     engine = run.scene.engine
     factor = math.pi * engine.bore**2 / 4 * engine.crank_radius_m
+    assert run.outputs["torque"].results["torque_per_specific_force_m3"] == pytest.approx(factor)
     fig = _journals_figure(f, 4, 720.0, translator("en"), factor)
     fig.savefig(io.BytesIO(), format="svg")  # the secondary axis takes its limits when drawn
     (main,) = [a for a in fig.axes if a.get_ylabel().startswith("t_k")]

@@ -49,6 +49,8 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
             else period_deg
         ),
         "period_even_firing_deg": layout.torque_period_deg,
+        #: F_p·R: a specific tangential force (Pa) times it is the torque it makes (N·m)
+        "torque_per_specific_force_m3": R * area,
         "non_uniformity": cs.torque_non_uniformity(torque),
         # each cylinder's cycle delay: its own crank angle alpha_i = alpha - delay (mod the cycle)
         "cylinder_cycle_delays_deg": [

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from functools import partial
 
 import numpy as np
@@ -100,7 +99,9 @@ def render(output: StageOutput, ctx) -> str | None:
         None
         if cranks == 1
         else ctx.figure(
-            partial(_journals_figure, f, cranks, ctx.cycle_deg, t, _newton_metres_per_pascal(ctx)),
+            partial(
+                _journals_figure, f, cranks, ctx.cycle_deg, t, r["torque_per_specific_force_m3"]
+            ),
             t("torque.journals_caption"),
             "journal_torques",
             see="torque.see_journals" + output_end(ctx.scene),
@@ -313,14 +314,6 @@ def _conclude_crank_load(ctx, r, table_number) -> None:
             table=table_number,
         )
     )
-
-
-def _newton_metres_per_pascal(ctx) -> float | None:
-    """F_p·R, m³: a specific tangential force in Pa times it is the torque it makes, N·m."""
-    engine = ctx.scene.engine if ctx.scene is not None else None
-    if engine is None:
-        return None
-    return math.pi * engine.bore**2 / 4 * engine.crank_radius_m
 
 
 #: The torque section's own letters (meanings: symbol.torque.<key> in i18n/).
