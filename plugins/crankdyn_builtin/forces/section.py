@@ -195,9 +195,7 @@ def _conclude(ctx, f, r, whose: str) -> None:
         return  # the master cylinder's side force with the slave rods: the bays section says it
     fitted = ctx.data(COUNTERWEIGHTS)
     # q is the crank's own load, before the counterweights the balancing fits
-    counterweights = (
-        whose != "_cylinder" and fitted is not None and bool(np.any(fitted.centrifugal_N))
-    )
+    counterweights = whose != "_cylinder" and fitted is not None and fitted.fitted
     ctx.conclude(
         t(
             "forces.conclusion_loads" + whose + ("_counterweights" if counterweights else ""),

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from functools import partial
 
-import numpy as np
 from markupsafe import Markup
 
 from crankdyn.plugin.contracts import COUNTERWEIGHTS
@@ -305,7 +304,7 @@ def _conclude_crank_load(ctx, r, table_number) -> None:
     worst = max((d["Q"] for d in r["dangerous"]), key=lambda v: v["q_Pa"])
     fitted = ctx.data(COUNTERWEIGHTS)
     # the loads of the tables are the cranks' own, before the counterweights the balancing fits
-    with_counterweights = fitted is not None and bool(np.any(fitted.centrifugal_N))
+    with_counterweights = fitted is not None and fitted.fitted
     ctx.conclude(
         ctx.t(
             "torque.conclusion_crank_load" + ("_counterweights" if with_counterweights else ""),

@@ -188,6 +188,11 @@ class Counterweights:
     balance_shaft_inertia_kg_m2: float = 0.0
     balance_shafts: int = 0  # how many balance shafts are fitted
 
+    @property
+    def fitted(self) -> bool:
+        """Whether any counterweight is fitted (one with a centrifugal force)."""
+        return bool(np.any(self.centrifugal_N))
+
 
 @dataclass(frozen=True)
 class FlywheelDesign:
