@@ -25,3 +25,7 @@ from crankdyn.report.i18n import translator
 )
 def test_angles_are_listed_as_the_language_lists_them(language, values, said):
     assert translator(language).degrees_and(values) == said
+
+
+def test_no_angles_are_no_text():
+    assert translator("uk").degrees_and([]) == ""

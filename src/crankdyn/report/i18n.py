@@ -228,6 +228,8 @@ class Translator:
         """Angles as one list: "450° і 270°"; equal angles once ("180°": every interval is 180°);
         a list that repeats a shorter one, as that one taken in turn ("по черзі 90° і 150°")."""
         texts = [self.number_g(v, significant) + "°" for v in values]
+        if not texts:
+            return ""
         period = next(
             p
             for p in range(1, len(texts) + 1)
