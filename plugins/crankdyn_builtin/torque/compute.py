@@ -72,18 +72,7 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
     if slaves is not None:
         results["slave_work"] = slaves
     if e.effective_power is not None:
-        results.update(
-            cs.effective_output(
-                results["indicated_power_W"],
-                e.effective_power,
-                e.angular_velocity_rad_s,
-                # every cylinder's gas exchange as the diagram's (a slave cylinder's stroke differs
-                # a little from its master's; its pumping loop is not computed on its own)
-                pumping_power_W=0.0
-                if gas is None
-                else 1e3 * cs.indicated_power_kW(gas.pumping_work_J, e.cylinders, e.strokes, e.rpm),
-            )
-        )
+        results.update(_effective_results(e, results["indicated_power_W"], gas))
     columns = _torque_columns(angle, bays, q, pin, journal, torque)
     data = {
         ENGINE_TORQUE: EngineTorque(
@@ -107,6 +96,20 @@ def run(scene, inputs, *, period_deg: float | None = None) -> StageOutput:
         ),
     }
     return StageOutput(data=data, results=results, tables={"torque": columns})
+
+
+def _effective_results(e, indicated_power_W: float, gas) -> dict:
+    """The effective output (N_e given): mechanical efficiency and mean effective torque."""
+    return cs.effective_output(
+        indicated_power_W,
+        e.effective_power,
+        e.angular_velocity_rad_s,
+        # every cylinder's gas exchange as the diagram's (a slave cylinder's stroke differs a
+        # little from its master's; its pumping loop is not computed on its own)
+        pumping_power_W=0.0
+        if gas is None
+        else 1e3 * cs.indicated_power_kW(gas.pumping_work_J, e.cylinders, e.strokes, e.rpm),
+    )
 
 
 def _mean_torque_results(e, torque, work_all: float) -> dict:
