@@ -1199,6 +1199,54 @@ def test_a_single_cylinders_balance_shaft_beside_the_crankshaft_leaves_a_couple(
     assert "for every 100 mm of that distance" not in none.linked_html
 
 
+#: A 270° in-line twin (the in-line 4 example with two cylinders on cranks 0° and 270°)
+#: whose first order is balanced by counterweights and one counter-rotating shaft.
+TWIN_270 = {
+    "engine": {
+        "cylinders": 2,
+        "firing_order": [1, 2],
+        "crank_angles_deg": [0, 270],
+        "uneven_firing": True,
+    },
+    "balancing": {"balance_orders": [1]},
+}
+
+
+def test_a_twins_counter_rotating_shaft_beside_the_crankshaft_leaves_its_force_times_the_distance():
+    """A 270° twin's backward first-order parts do not cancel: |Σb_I| = C_I/2·|1 + e^(−j·270°)|
+    = C_I·√2/2 is the one shaft's own force, and beside the crankshaft it forms a couple of that
+    force per metre of the shafts' distance, said per 100 mm (not "the offset changes nothing")."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("inline4-petrol", TWIN_270, ("balancing",)).outputs["balancing"].results
+    (shaft,) = r["balance_shafts"]
+    assert shaft["speed_ratio"] == -1
+    backward = r["first_order_N"] / 2 * abs(1 + np.exp(-1j * np.radians(270.0)))
+    assert r["shaft_beside_force_N"] == pytest.approx(backward, rel=1e-9)
+    assert shaft["force_N"] == pytest.approx(backward, rel=1e-9)
+    assert r["shaft_beside_couple_per_100mm_Nm"] == pytest.approx(0.1 * backward, rel=1e-9)
+    html = shared_html("inline4-petrol", TWIN_270, "en", ("balancing",)).linked_html
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)).replace("&#39;", "'")
+    assert f"form a couple of amplitude {0.1 * backward:.1f} N·m for every 100 mm" in text
+    assert "changes none of the forces and moments" not in text
+    assert "side offset of the shafts does not change" not in text
+
+
+def test_shafts_that_cancel_a_couple_only_may_lie_anywhere_beside_the_crankshaft():
+    """The in-line 3's first-order couple shaft: its masses' forces add up to zero, so no couple
+    is left beside the crankshaft and the note says why."""
+    from conftest import shared_html, shared_run
+
+    r = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert r["balance_shafts"]
+    assert all(s["force_N"] < 1e-6 * r["first_order_N"] for s in r["balance_shafts"])
+    assert r["shaft_beside_couple_per_100mm_Nm"] is None
+    html = shared_html("inline3-petrol", None, "en", ("balancing",)).linked_html
+    assert "a couple acts alike wherever it is applied" in html
+
+
 def test_a_single_cylinders_counterweight_for_the_centrifugal_force_alone_is_said_so():
     """No order to balance: the counterweight is sized for C alone, Q = C, and the note says
     so, not Q = F + C."""
@@ -1488,3 +1536,27 @@ def test_a_three_leaves_the_counter_rotating_half_of_its_first_order_couple():
         shared_html("inline3-petrol", {"balancing": {"first_order_backward": "left"}}, "en")
     )
     assert "only the part of the first-order moments turning against the shaft" in text
+
+
+def test_the_summary_table_marks_an_order_left_unbalanced_but_negligible():
+    """P_IV and P_VI of the single cylinder are under 1 % of C_I (|A_4|, |A_6| of the example's
+    λ): left unbalanced, and marked negligible in the table as the conclusions call them; P_II
+    (|A_2| ≈ λ) is not."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("petrol-1cyl", None, ("balancing",)).outputs["balancing"].results
+    shares = r["first_order_shares"]
+    assert shares["sum_PIV"] < 0.01 and shares["sum_PVI"] < 0.01 < shares["sum_PII"]
+    html = shared_html("petrol-1cyl", None, "en", ("balancing",)).linked_html
+    rows = {
+        m.group(1): m.group(2)
+        for m in re.finditer(
+            r"<tr><td[^>]*><i>P</i><sub>(\w+)</sub></td>(?:<td[^>]*>[^<]*</td>)*?"
+            r"<td[^>]*>(left unbalanced[^<]*)</td></tr>",
+            html,
+        )
+    }
+    assert rows["IV"] == rows["VI"] == "left unbalanced (negligible)"
+    assert rows["II"] == "left unbalanced"

@@ -39,7 +39,14 @@ from crankdyn.scene import options
 
 from .means import add_shaft_loads, means_records, remedy_summary, residual_after_means
 from .options import LEAVE_SHARE, BalancingOptions, balance_orders_for
-from .vectors import CHECK_SAMPLES, _fitted, bay_model_of, order_vectors, time_domain_check
+from .vectors import (
+    CHECK_SAMPLES,
+    NEGLIGIBLE,
+    _fitted,
+    bay_model_of,
+    order_vectors,
+    time_domain_check,
+)
 
 #: The scene table of the articulated rods, read for the mass rotating with a crank pin.
 ARTICULATED = "articulated"
@@ -495,7 +502,7 @@ def run(scene, inputs) -> StageOutput:
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
         **_internal_moment(g, C, a, summary),
-        "shaft_beside_couple_per_100mm_Nm": _shaft_beside_couple(g, shafts, C_I),
+        **_shaft_beside_couple(shafts, C_I),
         **_slave_results(
             g, masses, harmonics, slave_kg, slave_left, dropped, a, opts, scene, layout
         ),
@@ -539,15 +546,24 @@ def _internal_moment(g, C: float, spacing_m: float | None, summary: list[dict]) 
 SHAFT_BESIDE_DISTANCE_M = 0.1
 
 
-def _shaft_beside_couple(g, shafts: list[dict], C_I: float) -> float | None:
-    """A single cylinder's counter-rotating first-order shaft beside the crankshaft: the part of
-    P_I it balances (C_I/2) and its own force act the shafts' distance apart, a couple of
-    C_I/2 times that distance, N·m per :data:`SHAFT_BESIDE_DISTANCE_M`; None otherwise."""
-    if g.cylinders != 1:
-        return None
-    if not any(s["order"] == 1 and s["speed_ratio"] < 0 for s in shafts):
-        return None
-    return 0.5 * C_I * SHAFT_BESIDE_DISTANCE_M
+def _shaft_beside_couple(shafts: list[dict], C_I: float) -> dict:
+    """A counter-rotating first-order shaft beside the crankshaft, with no co-rotating partner:
+    its own force (:func:`add_shaft_loads`) and the backward part of P_I it cancels are equal and
+    opposite but the shafts' distance apart, a couple of that force times the distance, N·m per
+    :data:`SHAFT_BESIDE_DISTANCE_M` (``shaft_beside_couple_per_100mm_Nm``, with the shaft's force,
+    ``shaft_beside_force_N``); both None otherwise, and where the shaft cancels a couple only
+    (its force below :data:`NEGLIGIBLE` of C_I: a couple is moved freely)."""
+    none = {"shaft_beside_force_N": None, "shaft_beside_couple_per_100mm_Nm": None}
+    if any(s["order"] == 1 and s["speed_ratio"] > 0 for s in shafts):
+        return none
+    backward = [s for s in shafts if s["order"] == 1 and s["speed_ratio"] < 0]
+    if not backward or backward[0]["force_N"] <= NEGLIGIBLE * C_I:
+        return none
+    force = backward[0]["force_N"]
+    return {
+        "shaft_beside_force_N": force,
+        "shaft_beside_couple_per_100mm_Nm": force * SHAFT_BESIDE_DISTANCE_M,
+    }
 
 
 def _articulated_note(rod_type: str, results: dict, harmonics) -> list:

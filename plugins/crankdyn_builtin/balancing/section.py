@@ -17,12 +17,17 @@ from .tables import (
     _explorer_table,
     _masses_table,
     _means_table,
+    _negligible,
+    _percent_text,
+    _share,
+    _summary_amplitude,
     _summary_table,
     axis_text,
     coefficients_table,
     offset_couples,
     one_plane,
 )
+from .vectors import NEGLIGIBLE
 
 
 def _conclude(ctx, r, left_without_means: str, no_shafts: str) -> None:
@@ -152,7 +157,7 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     couples = rod_offset_items(t, r)
     if couples:  # forces balanced in one plane say nothing of the rods' offset
         finding = t("balancing.finding_rod_offset", finding=finding, items=", ".join(couples))
-    if single and r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
+    if r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
         finding = t(
             "balancing.finding_shaft_beside",
             finding=finding,
@@ -283,31 +288,6 @@ def _items_sentence(t, key: str, items: list[str]) -> str:
         them=t("balancing.them_many" if len(items) > 1 else "balancing.them_one"),
         them_nom=t("balancing.them_nom_many" if len(items) > 1 else "balancing.them_nom_one"),
     )
-
-
-def _summary_amplitude(r, item) -> tuple[float | None, bool]:
-    """(amplitude of an item of the summary: N for a force, N·m for a moment, None where the
-    results have none; whether it is a force)."""
-    force = item["quantity"].startswith("sum_")
-    return r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm")), force
-
-
-def _negligible(r, item) -> bool:
-    """Whether ``item``'s amplitude is under :data:`NEGLIGIBLE_SHARE` of C_I (a moment: of C_I·a)."""
-    value, force = _summary_amplitude(r, item)
-    scale = r["first_order_N"] * (1.0 if force else r["cylinder_spacing_m"] or 0.0)
-    return value is not None and scale > 0 and abs(value) < NEGLIGIBLE_SHARE * scale
-
-
-def _share(r, item) -> float:
-    """``item``'s amplitude as a share of C_I (a moment: of C_I·a)."""
-    return r["first_order_shares"][item["quantity"]]
-
-
-def _percent_text(t, items, r) -> str:
-    """The largest share of C_I among negligible ``items`` in per cent, two significant digits
-    ("0,14"): the real figure, not the 1 % bound they fall under."""
-    return t.number_g(100 * max(_share(r, item) for item in items), 2)
 
 
 def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
@@ -581,9 +561,9 @@ def _means_sentence(t, r) -> str:
     if by_scheme and not single:
         key = "balancing.scheme_balances" + ("_plane" if one_plane(r) else "")
         sentence += " " + t(key, what=by_scheme)
-    if single and r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
+    if r.get("shaft_beside_couple_per_100mm_Nm"):  # its forces balance, not their arm
         sentence += " " + t(
-            "balancing.conclusion_shaft_beside_single",
+            "balancing.conclusion_shaft_beside",
             per=newton_metres(t, r["shaft_beside_couple_per_100mm_Nm"]),
         )
     if r["counterweights"] and _counterweights_internal_only(r):
@@ -793,18 +773,36 @@ def free_motion_sentence(t, r, kind: str) -> str:
 
 
 def shaft_beside_sentence(t, r) -> str:
-    """A single cylinder's counter-rotating first-order shaft lies beside the crankshaft: the
-    force it balances and its own are equal and opposite but a distance apart, a couple of
-    (C_I/2) times that distance rocking the engine about an axis parallel to the shaft (given per
-    100 mm, the shaft's place not being given); "" for any other engine or means."""
+    """A counter-rotating first-order shaft lies beside the crankshaft: the part of P_I it
+    balances and its own force are equal and opposite but a distance apart, a couple rocking the
+    engine about an axis parallel to the shaft (given per 100 mm, the shaft's place not being
+    given); "" where no shaft leaves one (compute._shaft_beside_couple)."""
     per = r.get("shaft_beside_couple_per_100mm_Nm")
     if not per:
-        return ""
+        return _shafts_offset_sentence(t, r)
+    single = len(r["cylinder_labels"]) == 1
     return t(
-        "balancing.shaft_beside_single",
-        force=newtons(t, 0.5 * r["first_order_N"]),
+        "balancing.shaft_beside_single" if single else "balancing.shaft_beside",
+        force=newtons(t, r["shaft_beside_force_N"]),
         per=newton_metres(t, per),
     )
+
+
+def _shafts_offset_sentence(t, r) -> str:
+    """Balance shafts that leave no couple beside the crankshaft: each cancels a moment only (its
+    masses' forces add up to zero: a couple acts alike wherever it is applied), or shafts of a
+    pair turning in opposite directions share a force (placed symmetrically about the cylinder
+    axis, their couples cancel); "" without shafts."""
+    shafts = r["balance_shafts"]
+    if not shafts:
+        return ""
+    speeds = {s["speed_ratio"] for s in shafts}
+    with_force = [s for s in shafts if s["force_N"] > NEGLIGIBLE * r["first_order_N"]]
+    if not with_force:
+        return t("balancing.shafts_offset_couples", n=len(shafts))
+    if all(-s["speed_ratio"] in speeds for s in with_force):
+        return t("balancing.shafts_offset_pairs")
+    return ""  # a shaft's force without a partner: its couple depends on where it is
 
 
 def render(output: StageOutput, ctx) -> str | None:

@@ -337,6 +337,15 @@ def _summary_table(ctx, r):
                         order=s["order"],
                     )
                     + (t("balancing.remedy_in_crank_planes") if s in offset_rows else "")
+                    # left unbalanced and too small to matter: the conclusions say so too
+                    + (
+                        t(
+                            "balancing.remedy_negligible_"
+                            + ("moment" if s["quantity"].startswith("M_") else "force")
+                        )
+                        if s["remedy"] == "none" and _negligible(r, s)
+                        else ""
+                    )
                     for s in rows
                 ],
                 None,
@@ -356,6 +365,31 @@ def _summary_table(ctx, r):
 #: is said to be negligible, not listed among the unbalanced ones ("ΣP_VI = 4,4 Н" beside
 #: ΣP_II = 9426 Н is no finding).
 NEGLIGIBLE_SHARE = 0.01
+
+
+def _summary_amplitude(r, item) -> tuple[float | None, bool]:
+    """(amplitude of an item of the summary: N for a force, N·m for a moment, None where the
+    results have none; whether it is a force)."""
+    force = item["quantity"].startswith("sum_")
+    return r["absolute"].get(item["quantity"] + ("_N" if force else "_Nm")), force
+
+
+def _negligible(r, item) -> bool:
+    """Whether ``item``'s amplitude is under :data:`NEGLIGIBLE_SHARE` of C_I (a moment: of C_I·a)."""
+    value, force = _summary_amplitude(r, item)
+    scale = r["first_order_N"] * (1.0 if force else r["cylinder_spacing_m"] or 0.0)
+    return value is not None and scale > 0 and abs(value) < NEGLIGIBLE_SHARE * scale
+
+
+def _share(r, item) -> float:
+    """``item``'s amplitude as a share of C_I (a moment: of C_I·a)."""
+    return r["first_order_shares"][item["quantity"]]
+
+
+def _percent_text(t, items, r) -> str:
+    """The largest share of C_I among negligible ``items`` in per cent, two significant digits
+    ("0,14"): the real figure, not the 1 % bound they fall under."""
+    return t.number_g(100 * max(_share(r, item) for item in items), 2)
 
 
 def offset_couples(r) -> list[dict]:
