@@ -68,6 +68,10 @@ def test_a_scene_with_its_effective_power_gets_the_mechanical_efficiency(example
     html = shared_html(example, language="uk").linked_html
     assert "механічний ККД <i>η</i><sub>м</sub>" in html
     assert "<i>N</i><sub>e</sub></td>" in html  # the given data's row
+    # the conclusion gives η_m by the same formula: M_e is not η_m times the mean torque here
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html))
+    eta = f"{r['mechanical_efficiency']:.3f}".replace(".", ",")
+    assert f"механічний ККД ηм = Ne/⁠(Ni − Nнх) = {eta}, насосні ходи віднесено" in text
 
 
 def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):

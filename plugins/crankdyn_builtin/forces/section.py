@@ -186,7 +186,9 @@ def _conclude(ctx, f, r, whose: str) -> None:
     if r.get("mechanical_efficiency") is not None:  # a single cylinder given its N_e
         ctx.conclude(
             t(
-                "forces.conclusion_effective",
+                # a four-stroke's η_m leaves the pumping strokes out of N_i, as the section says
+                "forces.conclusion_effective"
+                + ("" if ctx.scene is not None and ctx.scene.engine.strokes == 2 else "_pumping"),
                 me=ctx.num(r["mean_effective_torque_Nm"]),
                 eta=ctx.num(r["mechanical_efficiency"], 3),
             )

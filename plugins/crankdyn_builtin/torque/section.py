@@ -292,7 +292,9 @@ def _conclude(ctx, r) -> None:
     if r.get("mechanical_efficiency") is not None:
         ctx.conclude(
             t(
-                "torque.conclusion_effective",
+                # a four-stroke's η_m leaves the pumping strokes out of N_i, as the section says
+                "torque.conclusion_effective"
+                + ("" if ctx.scene is not None and ctx.scene.engine.strokes == 2 else "_pumping"),
                 me=ctx.num(r["mean_effective_torque_Nm"]),
                 eta=ctx.num(r["mechanical_efficiency"], 3),
             )
