@@ -482,3 +482,20 @@ def test_worked_example_by_hand():
     assert kin.piston_acceleration_approx_m_s2(alpha, r, rod_ratio, w) == pytest.approx(
         4890.51434, rel=1e-8
     )
+
+
+@pytest.mark.parametrize(("rod_ratio", "said"), [(0.255, True), (0.28, False), (0.24, False)])
+def test_a_split_two_term_minimum_the_exact_acceleration_does_not_share_is_said(rod_ratio, said):
+    """The two-term minimum of the piston acceleration splits once λ > 1/4 (cos α = −1/(4λ)); the
+    exact one only at a larger λ (between 0.26 and 0.265: at λ = 0.255 it is still at 180°, at
+    0.28 near 158°). Where the two disagree the note says why; elsewhere it says nothing."""
+    from conftest import shared_html, shared_run
+
+    changes = {"engine": {"rod_ratio": rod_ratio}}
+    r = shared_run("petrol-1cyl", changes, ("kinematics",)).outputs["kinematics"].results
+    assert (abs(r["j_min_crank_angle_deg"] - 180.0) < 1e-6) == (rod_ratio <= 0.26)
+    if rod_ratio > 0.25:
+        split = np.degrees(np.arccos(-1 / (4 * rod_ratio)))
+        assert r["j_min_textbook_crank_angle_deg"] == pytest.approx(split, abs=1e-9)
+    html = shared_html("petrol-1cyl", changes, "en", ("kinematics",)).linked_html
+    assert ("the exact acceleration of this mechanism still has its single minimum" in html) == said
