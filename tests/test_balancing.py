@@ -782,7 +782,7 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     text = as_read(
         re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", FLYING_FLAT_FOUR, "ru").linked_html)
     )
-    section = "неуравновешенными ΣMII, ΣMIV вызывают колебания двигателя на его опорах"
+    section = "оставленное неуравновешенным (ΣMII, ΣMIV) вызывает колебания двигателя на его опорах"
     assert text.count(section) == 2  # in the section and in the conclusions
     assert text.count("гасит амортизированная подмоторная рама") == 2
     assert "Уравновешивающие валы второго порядка не предусмотрены" not in text
@@ -1560,3 +1560,36 @@ def test_the_summary_table_marks_an_order_left_unbalanced_but_negligible():
     }
     assert rows["IV"] == rows["VI"] == "left unbalanced (negligible)"
     assert rows["II"] == "left unbalanced"
+
+
+#: The flat four, its rod ratio 1/4: of its free moments only ΣM_II is over 1 % of C_I·a.
+LONG_ROD_FLAT_FOUR = {
+    "engine": {**FLYING_FLAT_FOUR["engine"], "rod_ratio": 0.25},
+    "balancing": None,
+}
+
+
+@pytest.mark.parametrize(
+    ("changes", "free_moments"),
+    [(LONG_ROD_FLAT_FOUR, ["PII"]), (FLYING_FLAT_FOUR, ["PII", "PIV"]), (None, [])],
+)
+def test_one_free_moment_is_said_in_the_singular(changes, free_moments):
+    """The free moments' sentence agrees with how many there are (those over 1 % of C_I·a):
+    "The free moment ΣMII pulsates …" for one, "The free moments act as follows: ΣMII and ΣMIV
+    pulsate …" for two, nothing where there is none (the in-line 4)."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("inline4-petrol", changes, ("balancing",)).outputs["balancing"].results
+    free = [
+        o["name"]
+        for o in r["orders"]
+        if o["moment_coefficient"] * o["amplitude_N"] >= 0.01 * r["first_order_N"]
+    ]
+    assert free == free_moments
+    text = re.sub(r"<[^>]+>", "", shared_html("inline4-petrol", changes, "en").linked_html)
+    assert ("The free moment ΣMII pulsates" in text) == (len(free) == 1)
+    assert ("The free moments act as follows: ΣMII and ΣMIV pulsate" in text) == (len(free) == 2)
+    if not free:
+        assert "The free moment" not in text

@@ -209,18 +209,18 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
     """No bay's axis of symmetry, no crank lag or bank angle, no sum over cylinders, no moment
     columns in the table of orders for one cylinder; an in-line four keeps them."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    for words in ("кут відставання", "до суми сил усіх циліндрів", "Площина моменту"):
+    for words in ("ВМТ першого циліндра до ВМТ", "до суми сил усіх циліндрів", "Площина моменту"):
         assert words not in one and words in four, words
     assert "Відцентрова сила і сили інерції кожного порядку" in one
 
 
 def test_an_inline_engine_has_no_bays_and_no_bank_angle(reports):
     """The in-line four's note has none of a V engine's text: "the axis of symmetry of a bay",
-    "the crank lag together with the bank angle", rods "side by side" on a common crank pin."""
+    "the cylinder's phase taking in the crank lag and the axis angle", rods "side by side" on a common crank pin."""
     four, v8 = reports("inline4-petrol"), reports("v8-petrol")
     for words in (
         "вісь симетрії відсіку",
-        "узято разом із кутом",
+        "містить і відставання коліна циліндра",
         "розташовані поруч",
         "спільну шатунну шийку",
     ):

@@ -769,7 +769,10 @@ def free_motion_sentence(t, r, kind: str) -> str:
         t(key, symbol=t.join_and(symbols), n=len(symbols), angle=angle)
         for (key, angle), symbols in alike.items()
     ]
-    return t(f"balancing.{kind}s_motion", items="; ".join(items)) if items else ""
+    if not items:
+        return ""
+    one = sum(len(symbols) for symbols in alike.values()) == 1  # "The free moment ΣM_II pulsates"
+    return t(f"balancing.{kind}s_motion" + ("_one" if one else ""), items="; ".join(items))
 
 
 def shaft_beside_sentence(t, r) -> str:
