@@ -111,6 +111,38 @@ def test_a_crank_pin_pressure_above_the_allowable_one_is_compared_with_the_textb
     assert narrow.t(key).split("d·B", 1)[0] not in usual.conclusions
 
 
+@pytest.mark.parametrize(
+    ("changes", "widths"),
+    [
+        ({"engine": {"layout": "boxer", "cylinder_spacing": "56 mm"}}, "assumed"),
+        (
+            {"engine": {"cylinder_spacing": "60 mm"}, "bearings": {"crank_pin_width": "40 mm"}},
+            "given",
+        ),
+        ({}, "fit"),
+    ],
+)
+def test_journals_wider_than_the_crank_pitch_are_said_not_to_fit(changes, widths):
+    """A main journal between every two cranks needs B_pin + B_main < a (the webs besides): the
+    in-line 4's 31.0 + 25.8 mm fit its 92 mm; as a flat four 56 mm apart (the widths assumed
+    from the bore) or with a 40 mm pin 60 mm apart (a width given) they do not, and the section
+    and the conclusions say so with the sizes; the rule stays silent where they fit."""
+    note = Note("inline4-petrol", changes, ("bearings",), "uk")
+    sizes = note.result.outputs["bearings"].results["dimensions"]
+    spacing = note.result.scene.engine.cylinder_spacing
+    total = sizes["crank_pin_width_m"] + sizes["main_journal_width_m"]
+    section = note.section("bearings")
+    if widths == "fit":
+        assert total < spacing
+        assert "ще без двох щік" not in section
+        return
+    assert total > spacing
+    said = f"{total * 1e3:.1f} мм – більше за крок колін".replace(".", ",")
+    assert said in section
+    assert ("Ширину шийок у завданні не вказано" in section) is (widths == "assumed")
+    assert f"крок колін a = {spacing * 1e3:g} мм" in note.conclusions
+
+
 def test_a_diesels_crank_pin_is_judged_by_the_diesels_allowable_pressures():
     # the diesel example's pin within 16 and 42 MPa; 10 mm wide it carries several times more
     narrow = Note("diesel-1cyl", {"bearings": {"crank_pin_width": "10 mm"}}, ("bearings",), "uk")

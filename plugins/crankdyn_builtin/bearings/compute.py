@@ -110,6 +110,30 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     return [(key, params)]
 
 
+def _journals_fit(scene, results=None) -> list[tuple[str, dict]]:
+    """A shaft with a main journal between every two cranks needs the crank pin's width and the
+    main journal's in one crank pitch, the cylinder spacing a, with room for the two webs: where
+    the two widths alone exceed a, the journals of the section do not fit the shaft (widths
+    assumed from typical ratios of the bore, or given); nothing for one crank or no a."""
+    sizes = (results or {}).get("dimensions") or {}
+    pins = (results or {}).get("crank_pins") or []
+    spacing_m = scene.engine.cylinder_spacing
+    pin_m, main_m = sizes.get("crank_pin_width_m"), sizes.get("main_journal_width_m")
+    if len(pins) < 2 or spacing_m is None or not pin_m or not main_m:
+        return []
+    if pin_m + main_m <= spacing_m:
+        return []
+    # both widths assumed from the bore: the note says so (one given: neither is claimed)
+    assumed = {"crank_pin_width", "main_journal_width"} <= set(sizes.get("defaulted", ()))
+    params = {
+        "pin": pin_m * 1e3,
+        "main": main_m * 1e3,
+        "total": (pin_m + main_m) * 1e3,
+        "spacing": spacing_m * 1e3,
+    }
+    return [("bearings.plausibility_journals_fit" + ("_assumed" if assumed else ""), params)]
+
+
 def pin_pressure_within_limits(scene, results) -> dict | None:
     """The most loaded big-end bearing's mean and largest pressure, MPa, with the allowable ones
     of its kind of engine (``kind``: spark or diesel), where both are within them; None where
