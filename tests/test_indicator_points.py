@@ -203,7 +203,7 @@ def test_the_closed_form_shows_pre_expansion_only_for_a_diesel(example, with_rho
 
 @pytest.mark.parametrize(
     "fraction, said",
-    [(None, "Звичайний тиск pz′ = 0,85·pz"), (0.85, "Заданий тиск pz′ = 0,85·pz")],
+    [(None, "Рекомендований тиск pz′ = 0,85·pz"), (0.85, "Заданий тиск pz′ = 0,85·pz")],
 )
 def test_a_peak_lowered_inside_the_theoretical_diagram_is_said_so(fraction, said):
     """A petrol engine at ε = 12: p_z′ = 0.85·p_z 12° after TDC, the usual or the given, would

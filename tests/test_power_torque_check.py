@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
 import pytest
 
 from crankdyn.physics import crankshaft as cs
@@ -26,6 +27,16 @@ def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(
     from_work = work_J * cylinders / (2 * math.pi * strokes / 2)
     from_power = cs.torque_from_power_Nm(work_J, cylinders, strokes, rpm)
     assert from_power / from_work == pytest.approx(9555.0 / (30000.0 / math.pi), rel=1e-12)
+
+
+def test_torque_non_uniformity_is_the_swing_over_the_mean_magnitude():
+    """μ = (M_max − M_min)/|M_m|: 10 + 40 sin α swings 80 N·m about 10 N·m, μ = 8; a driven
+    machine's −10 + 40 sin α swings alike about −10 N·m, μ = 8 as well (not −8); a zero mean
+    has no μ."""
+    alpha = np.radians(np.arange(0.0, 720.0, 0.5))
+    assert cs.torque_non_uniformity(10.0 + 40.0 * np.sin(alpha)) == pytest.approx(8.0, rel=1e-12)
+    assert cs.torque_non_uniformity(-10.0 + 40.0 * np.sin(alpha)) == pytest.approx(8.0, rel=1e-12)
+    assert cs.torque_non_uniformity(np.array([-40.0, 40.0])) == float("inf")
 
 
 def test_effective_output_against_the_indicated_one():

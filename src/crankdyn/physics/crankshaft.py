@@ -35,9 +35,10 @@ def resultant_Pa(tangential_Pa, radial_Pa, centrifugal_Pa):
 
 
 def torque_non_uniformity(torque_Nm) -> float:
-    """(M_max - M_min) / M_mean of the output torque (dimensionless); inf if the mean is 0."""
+    """(M_max - M_min) / |M_mean| of the output torque (dimensionless; the mean's magnitude: a
+    driven machine's mean torque is negative, its swing as large); inf if the mean is 0."""
     torque = np.asarray(torque_Nm, dtype=float)
-    mean = float(np.mean(torque))
+    mean = abs(float(np.mean(torque)))
     return float((torque.max() - torque.min()) / mean) if mean != 0 else float("inf")
 
 
