@@ -33,7 +33,7 @@ def _journals_figure(f, cranks, cycle_deg, t, newton_metres_per_pascal: float | 
     if newton_metres_per_pascal:
         scale = newton_metres_per_pascal * 1e6  # N·m per MPa
         right = ax.secondary_yaxis("right", functions=(lambda v: v * scale, lambda m: m / scale))
-        right.set_ylabel("M_k, " + t("unit.Nm"))
+        right.set_ylabel("t_k·F_p·R, " + t("unit.Nm"))  # the same quantity, scaled: no new letter
     # short labels under a title: "main journal after crank k" in three columns overran the axes
     ax.legend(loc="upper right", fontsize=8, title=t("torque.journals_legend_title"))
     return fig
