@@ -78,13 +78,19 @@ def test_a_driven_machines_flywheel_section_says_the_shaft_takes_work_in(tmp_pat
         base_dir=tmp_path,
     )
     registry = default_registry()
-    result = run_scene(scene, registry, ["indicator", "forces", "torque", "flywheel"])
+    stages = ["indicator", "forces", "torque", "flywheel", "speed_fluctuation"]
+    result = run_scene(scene, registry, stages)
     assert result.outputs["flywheel"].results["mean_torque_Nm"] < 0
+    # the swing over the mean's magnitude: positive, as an engine's
+    torque = result.outputs["torque"].results
+    assert torque["non_uniformity"] > 0
+    assert result.outputs["speed_fluctuation"].results["load_torque_Nm"] < 0
     html = render_html(result, registry, "uk").linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", html)).replace("\u202f", " ")
     assert "вал не віддає роботу, а споживає її" in text
     assert "момент опору прийнято сталим" not in text
     assert re.search(r"ΔL становить [1-9]\d*(,\d+)? % роботи за цикл", text)
+    assert "Тут Mоп < 0: машина споживає роботу" in text  # the constant torque drives it
 
 
 def test_a_given_flywheel_with_no_shaft_inertia_is_not_said_to_be_sized():
