@@ -252,11 +252,17 @@ def test_the_flywheel_search_finds_the_one_root_from_either_side(estimate):
     assert sf.flywheel_for_irregularity(gas, inertia_with, omega, loose, estimate) == 0.0
 
 
-def test_the_flywheel_is_raised_at_the_digits_the_note_prints_delta_with():
+def test_the_flywheel_is_raised_at_the_digits_the_note_prints_the_exact_delta_with():
+    """An exact δ the speed-fluctuation section prints above [δ] (0,01203 against 0,012) has its
+    flywheel raised; one that prints as [δ] (0,01000 for 0,0100013) has not."""
     from crankdyn_builtin.flywheel.compute import PRINTED_DELTA_DIGITS
-    from crankdyn_builtin.speed_fluctuation.section import ADOPTED_DELTA_DIGITS
+    from crankdyn_builtin.speed_fluctuation.section import EXACT_DELTA_DIGITS
 
-    assert PRINTED_DELTA_DIGITS == ADOPTED_DELTA_DIGITS
+    assert PRINTED_DELTA_DIGITS == EXACT_DELTA_DIGITS
+    r = shared_run("inline4-petrol", None, (*STAGES,)).outputs["flywheel"].results
+    exact = r["energy_flywheel_exact_irregularity"]
+    assert r["required_irregularity"] < exact < r["required_irregularity"] * (1 + 5e-4)
+    assert not r["flywheel_raised"]
 
 
 def test_the_counterweights_turn_with_the_shaft_in_the_flywheels_inertia():

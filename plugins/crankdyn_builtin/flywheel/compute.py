@@ -31,9 +31,10 @@ MAX_ENERGY_METHOD_IRREGULARITY = 0.5
 #: The irregularity suggested when a chosen flywheel is refused as too small.
 SUGGESTED_IRREGULARITY = 0.2
 
-#: The significant digits a course note prints δ with: an exact δ above [δ] by less than these
-#: digits show is taken as meeting [δ] (the printed δ equals it).
-PRINTED_DELTA_DIGITS = 3
+#: The significant digits a course note prints the exact δ with (its speed-fluctuation
+#: section): an exact δ above [δ] by less than these digits show is taken as meeting [δ] (the
+#: printed δ equals it); one that shows above it raises the flywheel.
+PRINTED_DELTA_DIGITS = 4
 
 
 def applies(scene) -> str | None:

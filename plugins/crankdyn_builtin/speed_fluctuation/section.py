@@ -14,10 +14,13 @@ from .solver_text import _digits_that_differ, _sci, _solver_table
 from .torsion_section import _torsion_parts
 
 #: The significant digits of the coefficient of cyclic irregularity a course note states: the
-#: flywheel section's (the δ the flywheel is designed with and the abstract names; the flywheel
-#: stage raises its flywheel when the exact δ exceeds [δ] at these digits), so that one δ is
-#: printed alike in the abstract, the sections and the conclusions.
+#: flywheel section's (the δ the flywheel is designed with and the abstract names), so that one
+#: δ is printed alike in the abstract, the sections and the conclusions.
 ADOPTED_DELTA_DIGITS = 3
+#: The significant digits a course note gives the exact periodic solution's δ with (speeds that
+#: differ by under a percent hold no more); the flywheel stage raises its flywheel when that δ
+#: shows above [δ] at these digits, so that no printed exact δ exceeds [δ] unremarked.
+EXACT_DELTA_DIGITS = 4
 
 
 def _course_digits(ctx, exact: float, energy: float, digits: int, most: int) -> int:
@@ -101,7 +104,7 @@ def render(output: StageOutput, ctx) -> str:
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
     alike = False
     if course:  # δ from speeds that differ by under a percent: four digits are all it holds
-        digits = 4
+        digits = EXACT_DELTA_DIGITS
         alike = ctx.num(r["irregularity"], digits) == ctx.num(r["irregularity_energy"], digits)
         exact_digits = _course_digits(
             ctx, r["irregularity"], r["irregularity_energy"], ADOPTED_DELTA_DIGITS, digits
