@@ -484,7 +484,7 @@ def test_a_course_note_states_the_step_and_its_errors_without_run_time():
     worst = max(compute.QUANTITIES, key=lambda q: coarse[f"{q}_error_relative"])
     # one plain clause: what the coarsest step would cost, and to which result
     assert (
-        f"With the coarsest step studied, Δα = {coarse['angle_step_deg']:g}°, the relative "
+        f"With a coarser step, Δα = {coarse['angle_step_deg']:g}°, the relative "
         f"error of {t(f'numerics.q_{worst}')} would grow to "
         f"{ctx.num(100 * coarse[f'{worst}_error_relative'], 2)} %." in html
     )
@@ -501,15 +501,15 @@ def test_a_course_note_states_the_step_and_its_errors_without_run_time():
     [
         (
             "en",
-            "With the coarsest step studied, Δα = 30°, the relative error of M_m would grow to 1.2 %.",
+            "With a coarser step, Δα = 30°, the relative error of M_m would grow to 1.2 %.",
         ),
         (
             "ru",
-            "С наибольшим из исследованных шагов, Δα = 30°, относительная погрешность M_ср возросла бы до 1,2 %.",
+            "При более грубом шаге Δα = 30° относительная погрешность M_ср возросла бы до 1,2 %.",
         ),
         (
             "uk",
-            "З найбільшим із досліджених кроків, Δα = 30°, відносна похибка M_сер зросла б до 1,2 %.",
+            "За грубішого кроку Δα = 30° відносна похибка M_сер зросла б до 1,2 %.",
         ),
     ],
 )
