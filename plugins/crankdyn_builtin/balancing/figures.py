@@ -139,16 +139,25 @@ def _models_shown(r) -> tuple[list, bool]:
     return shown, moments
 
 
-def _name_arrow(ax, name: str, start: complex, vector: complex, side: float) -> None:
+#: How far a vector's name stands off its arrow, pt; an arrow shorter than SHORT_ARROW of the
+#: panel's half-width is mostly its head, and its name stands further off, clear of the head.
+NAME_OFFSET_PT, SHORT_NAME_OFFSET_PT, SHORT_ARROW = 5.0, 9.0, 0.3
+
+
+def _name_arrow(
+    ax, name: str, start: complex, vector: complex, side: float, half_width: float = 1.0
+) -> None:
     """``name`` in italics beside the middle of the arrow ``start`` → ``start + vector`` (complex
-    numbers: imag along x, real along y, as the panels draw them), 5 pt off it on ``side`` (+1 left)."""
+    numbers: imag along x, real along y, as the panels draw them), off it on ``side`` (+1 left)
+    by :data:`NAME_OFFSET_PT` (a short arrow's by :data:`SHORT_NAME_OFFSET_PT`)."""
     length = abs(vector)
     normal = (-vector.real / length * side, vector.imag / length * side)  # the arrow turned by 90°
     middle = start + 0.5 * vector
+    offset = SHORT_NAME_OFFSET_PT if length < SHORT_ARROW * half_width else NAME_OFFSET_PT
     ax.annotate(
         name,
         (middle.imag, middle.real),
-        xytext=(5 * normal[0], 5 * normal[1]),
+        xytext=(offset * normal[0], offset * normal[1]),
         textcoords="offset points",
         fontsize=7,
         style="italic",
@@ -218,13 +227,13 @@ def _models_drawing(panels, moments: bool, cylinders: int, balanced_label: str):
             ax.plot(wv.imag, wv.real, color="C2", lw=1.8, zorder=3, solid_capstyle="round")
             # the vectors named beside their middles (a black-and-white print still tells them apart),
             # f on the left of its arrow, b on the right, 5 pt off the line (not on the arrows)
+            lim = max(abs(f) + abs(b), 1.0) * 1.25
             if abs(f) > 1e-9:
                 _arrow(ax, 0, 0, f.imag, f.real, color="C0")
-                _name_arrow(ax, "f", 0j, f, side=1.0)
+                _name_arrow(ax, "f", 0j, f, side=1.0, half_width=lim)
             if abs(b) > 1e-9:
                 _arrow(ax, f.imag, f.real, f.imag + b.imag, f.real + b.real, color="C3")
-                _name_arrow(ax, "b", f, b, side=-1.0)
-            lim = max(abs(f) + abs(b), 1.0) * 1.25
+                _name_arrow(ax, "b", f, b, side=-1.0, half_width=lim)
             ax.set_xlim(-lim, lim)
             ax.set_ylim(-lim, lim)
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
