@@ -1593,3 +1593,19 @@ def test_one_free_moment_is_said_in_the_singular(changes, free_moments):
     assert ("The free moments act as follows: ΣMII and ΣMIV pulsate" in text) == (len(free) == 2)
     if not free:
         assert "The free moment" not in text
+
+
+def test_a_short_vectors_name_stands_clear_of_its_head():
+    """A vector's name stands 5 pt off the middle of its arrow, square to it; an arrow under 0.3
+    of the panel's half-width is mostly its head, and its name stands 9 pt off instead."""
+    from crankdyn_builtin.balancing.figures import _name_arrow
+
+    class Axes:
+        def annotate(self, name, xy, xytext, **kwargs):
+            self.placed = (name, xy, xytext)
+
+    ax = Axes()
+    _name_arrow(ax, "f", 0j, 1 + 0j, side=1.0, half_width=1.25)  # up the panel, 0.8 of it
+    assert ax.placed[1] == (0.0, 0.5) and ax.placed[2] == pytest.approx((-5.0, 0.0))
+    _name_arrow(ax, "b", 0j, 0.2 + 0j, side=-1.0, half_width=1.25)  # 0.16 of the panel
+    assert ax.placed[2] == pytest.approx((9.0, 0.0))
