@@ -18,6 +18,7 @@ from crankdyn.report.context import RenderContext
 from crankdyn.report.document import _environment, render_html
 from crankdyn.report.figures import new_figure
 from crankdyn.report.i18n import available_languages, translator
+from crankdyn.report.typeset import symbol_table
 from crankdyn.scene.model import scene_from_dict
 
 REGISTRY = default_registry()
@@ -122,6 +123,7 @@ def _example(example: str):
         table_step_deg=scene.analysis.table_step_deg,
         cycle_deg=scene.engine.cycle_deg,
         scene=scene,
+        symbols=symbol_table(REGISTRY.stages.values()),  # the stages' own letters, as a report's
     )
     ctx.drawn = []
     for number, stage in enumerate(result.plan.order, start=2):

@@ -23,8 +23,10 @@ def test_the_journal_torque_figure_reads_in_newton_metres_too():
     fig = _journals_figure(f, 4, 720.0, translator("en"), factor)
     fig.savefig(io.BytesIO(), format="svg")  # the secondary axis takes its limits when drawn
     (main,) = [a for a in fig.axes if a.get_ylabel().startswith("t_k")]
-    (right,) = [a for a in main.child_axes if a.get_ylabel().startswith("M_k")]
-    assert right.get_ylabel() == "M_k, N·m"
+    (right,) = [a for a in main.child_axes if a.get_ylabel().startswith("t_k·F_p·R")]
+    assert (
+        right.get_ylabel() == "t_k·F_p·R, N·m"
+    )  # the same quantity scaled, not M_k (a cylinder's)
     # 1 MPa of t_k on the left is F_p·R·1e6 N·m on the right
     low, high = main.get_ylim()
     assert right.get_ylim() == pytest.approx((low * factor * 1e6, high * factor * 1e6))

@@ -86,6 +86,8 @@ def _conclude(ctx, r, left_without_means: str, no_shafts: str) -> None:
             # what the means leave, with values: the conclusions said only what they balance
             said = any(_negligible(r, s) for s in _left_unbalanced(r, unbalanced))
             left = _left_after_means(t, r, residuals, "" if single else "Σ", negligible_said=said)
+            if mass_difference_items(t, r):  # not "only ΣP_IV": the slaves' parts follow
+                left += t("balancing.left_also_slave_parts")
             sentence += f" {left[:1].upper()}{left[1:]}."
         ctx.conclude(sentence)
     elif left_without_means:  # the decision the section states: no means, the mounts
