@@ -172,8 +172,8 @@ def test_an_aircraft_engines_flywheel_is_its_propeller(language, title, row, def
 
 def test_a_designed_flywheel_holds_at_its_speed_and_a_tiny_one_is_the_webs():
     """A flywheel designed for [δ] at the rated speed: the note says δ grows at lower speeds (so
-    starting and idling choose it too); one of a few per cent of J_0 is said to be the crank
-    webs', the rotor's or the clutch's, not a part of its own."""
+    starting and idling choose it too); one of a few per cent of J_0 is said to be given by the
+    parts turning with the shaft (the rotor, the clutch), not a part of its own."""
     import re
 
     from conftest import shared_html, shared_run
@@ -184,10 +184,14 @@ def test_a_designed_flywheel_holds_at_its_speed_and_a_tiny_one_is_the_webs():
     page = shared_html("inline4-petrol", loose, "en", ("flywheel",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page)).replace("\u2060", "")
     assert "This holds at the given speed n = 5600 rpm; at a lower speed ω² in δ" in text
-    said = "is in practice made up by the crank webs, the generator"
+    said = "is in practice made up by the parts that turn with the shaft, the generator"
     assert 0 < share < 0.1 and said in text, share
+    # the rim of the given diameter is still sized, for a flywheel made a part of its own
+    separate = "for the case that the flywheel is made a separate part all the same"
+    assert (separate in text) == (r["rim"] is not None)
     tight = shared_html("inline4-petrol", None, "en", ("flywheel",)).linked_html
     assert said not in tight and "This holds at the given speed" in tight
+    assert "made a separate part all the same" not in tight
 
 
 @pytest.mark.parametrize("rpm", [None, 1500])
