@@ -850,6 +850,8 @@ def render(output: StageOutput, ctx) -> str | None:
             else "balancing.unbalanced_forces_moments"
         ),
         rod_offset=_rod_offset_sentence(ctx.t, r),
+        # the rods' couples the section gives (not negligible): "the couples given above"
+        offset_shown=bool(offset_couples(r)),
         shaft_beside=shaft_beside_sentence(ctx.t, r),
         free_motion=" ".join(
             filter(None, (free_motion_sentence(ctx.t, r, kind) for kind in ("force", "moment")))
