@@ -480,3 +480,11 @@ def test_a_boxer_twins_cylinders_lie_left_and_right_not_in_banks():
     assert "the odd-numbered cylinders lie in the left bank" in four
     uk = _text(shared_html("inline4-petrol", twin, "uk", ("balancing",)).linked_html)
     assert "вала 1-го порядку, що обертається назустріч колінчастому валу," in uk
+
+
+def test_a_shared_pins_rod_centrifugal_term_is_said_of_all_its_rods():
+    """c_r = −Σ m_rR·R·ω²/F_p sums the rods on one pin (two on a V8's): its meaning says so, in
+    the list of symbols and under the equation, not "of the rod"."""
+    text = _v8_uk()
+    assert "питома відцентрова сила обертових частин усіх шатунів шийки" in text
+    assert "питома відцентрова сила обертової частини шатуна," not in text
