@@ -488,3 +488,11 @@ def test_a_shared_pins_rod_centrifugal_term_is_said_of_all_its_rods():
     text = _v8_uk()
     assert "питома відцентрова сила обертових частин усіх шатунів шийки" in text
     assert "питома відцентрова сила обертової частини шатуна," not in text
+
+
+def test_a_shared_pins_forces_t_i_and_z_i_are_said_of_the_crank():
+    """On a V8's shared pins t_i and z_i of the torque and bearings sections are each crank's sums
+    over its two cylinders: the list of symbols says so, not "of cylinder i"."""
+    text = _v8_uk()
+    assert "питома тангенціальна сила на i-му коліні (сума сил його циліндрів" in text
+    assert "питома тангенціальна сила i-го циліндра за його кута циклу" not in text
