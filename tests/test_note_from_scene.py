@@ -494,5 +494,5 @@ def test_a_shared_pins_forces_t_i_and_z_i_are_said_of_the_crank():
     """On a V8's shared pins t_i and z_i of the torque and bearings sections are each crank's sums
     over its two cylinders: the list of symbols says so, not "of cylinder i"."""
     text = _v8_uk()
-    assert "питома тангенціальна сила на i-му коліні (сума сил його циліндрів" in text
-    assert "питома тангенціальна сила i-го циліндра за його кута циклу" not in text
+    assert "(сума сил його циліндрів, кожного за його кута циклу)" in text
+    assert "сила i -го циліндра за його кута циклу" not in text.replace("i-го", "i -го")
