@@ -339,10 +339,7 @@ def _summary_table(ctx, r):
                     + (t("balancing.remedy_in_crank_planes") if s in offset_rows else "")
                     # left unbalanced and too small to matter: the conclusions say so too
                     + (
-                        t(
-                            "balancing.remedy_negligible_"
-                            + ("moment" if s["quantity"].startswith("M_") else "force")
-                        )
+                        t("balancing.remedy_negligible")
                         if s["remedy"] == "none" and _negligible(r, s)
                         else ""
                     )
