@@ -698,9 +698,9 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
     # forces only: what is left is ΣP_VI, no moment (no "сили й моменти" where there are none)
     found = re.search(
-        r"Інші незрівноважені сили шостого порядку \((.*?)\) становлять не більше ніж ([\d,]+) % "
+        r"Інша незрівноважена сила шостого порядку \((.*?)\) становить не більше ніж ([\d,]+) % "
         r"амплітуди сили "
-        r"інерції першого порядку одного циліндра CI, тому ними можна знехтувати\.",
+        r"інерції першого порядку одного циліндра CI, тому нею можна знехтувати\.",
         text,
     )
     value = float(re.fullmatch(r"ΣPVI = ([\d,]+) Н", found.group(1)).group(1).replace(",", "."))

@@ -312,6 +312,10 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
             " " + t("balancing.negligible_reference_moment") if moments else ""
         )
     kind = "_forces_moments" if forces and moments else ("_moments" if moments else "_forces")
+    # one force or moment: said in the singular, its adjectives of its gender
+    one = "" if len(negligible) > 1 else "_one_" + ("moment" if moments else "force")
+    if one:
+        kind = ("_moment" if moments else "_force") + "_one"
     # named by their orders ("сили шостого порядку"), unless the centrifugal forces are among them
     orders = sorted({item["order"] for item in negligible})
     what = (
@@ -321,7 +325,8 @@ def _conclude_negligible(ctx, r, negligible, single: bool, alone: bool) -> None:
     )
     ctx.conclude(
         t(
-            "balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible",
+            ("balancing.conclusion_only_negligible" if alone else "balancing.conclusion_negligible")
+            + one,
             items=", ".join(items),
             percent=_percent_text(t, negligible, r),
             reference=reference,
