@@ -134,7 +134,7 @@ def test_journals_wider_than_the_crank_pitch_are_said_not_to_fit(changes, widths
     section = note.section("bearings")
     if widths == "fit":
         assert total < spacing
-        assert "ще без двох щік" not in section
+        assert "навіть без урахування двох щік" not in section
         return
     assert total > spacing
     said = f"{total * 1e3:.1f} мм – більше за крок колін".replace(".", ",")
