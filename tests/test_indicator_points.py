@@ -223,7 +223,8 @@ def test_a_peak_lowered_inside_the_theoretical_diagram_is_said_so(fraction, said
     assert r["peak_pressure_fraction"] < 0.85
     html = shared_html("petrol-1cyl-uk", high, "uk", ("indicator",)).linked_html
     text = re.sub(r"[\u00a0\u202f]", " ", re.sub(r"<[^>]+>", "", html))
-    taken = f"{r['peak_pressure_fraction']:.3f}".replace(".", ",")
+    # to the four digits the values taken list it with, one number in both places
+    taken = f"{r['peak_pressure_fraction']:.4f}".replace(".", ",")
     assert f"{said} у точці z′ (12° після ВМТ) лежав би вище за теоретичну діаграму" in text
     assert f"тож узято pz′ = {taken}·pz, 97 % тиску теоретичної діаграми" in text
     # the values taken list the fraction the diagram takes, as the section says; the given
