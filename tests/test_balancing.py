@@ -1041,7 +1041,9 @@ def test_the_means_describe_balance_shafts_only_where_shafts_are_fitted(name, sh
     assert bool(results["balance_shafts"]) is shafts_fitted and results["counterweights"]
     text = re.sub(r"<[^>]+>", "", shared_html(name, None, "en").linked_html)
     assert "needs a balance shaft turning at ν·ω" in text
-    assert ("Each shaft carries two masses, in the planes of the end cranks" in text) is shafts_fitted
+    assert (
+        "Each shaft carries two masses, in the planes of the end cranks" in text
+    ) is shafts_fitted
 
 
 def _table_cells(html: str, caption: str) -> list[list[str]]:
