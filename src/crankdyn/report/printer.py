@@ -22,6 +22,7 @@ import contextlib
 import multiprocessing
 import os
 import pickle
+import select
 import socket
 import sys
 import threading
@@ -103,9 +104,10 @@ def _serve(sock: socket.socket) -> int:
         load_weasyprint()  # the point of this process
         from .pdf import html_to_pdf  # lazy: heavy optional import (weasyprint, pikepdf)
 
-        html_to_pdf(
-            "<p>crankdyn</p>"
-        )  # fontconfig and the first page's set-up, as a batch warms up
+        if not select.select([sock], [], [], 0)[0]:
+            # nothing told yet: fontconfig and a first page's set-up meanwhile, as a batch warms
+            # up (the report's language, when it is already waiting, sets up the same and more)
+            html_to_pdf("<p>crankdyn</p>")
         message = pickle.load(reader)
         if message[0] == "language":  # the report's language and frame, known before its page
             _warm_up(*message[1:])
