@@ -692,7 +692,9 @@ def test_a_journal_of_the_largest_mean_load_is_named_when_the_peak_picks_others(
     html = shared_html("inline4-petrol", _TRACTOR, "uk", ("bearings",)).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     label = by_mean["journal"].replace("-", "–")
-    assert f"Найбільший середній тиск на корінний підшипник має шийка {label}" in text
+    assert (
+        f"За середнім за цикл тиском найбільш навантажений підшипник корінної шийки {label}" in text
+    )
     assert f"Найбільше середнє навантаження має корінна шийка {label};" in text
 
 
@@ -793,7 +795,7 @@ INLINE_FIVE = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
                 "корінна шийка 2–3 (так само навантажена шийка 3–4); вона сприймає",
                 "корінної шийки 2–3 (так само навантажена шийка 3–4) –",
                 "(обидва – на шийках 2–3 і 3–4)",
-                "Найбільше навантажені корінні шийки 2–3 і 3–4:",
+                "За найбільшою за цикл силою найбільш навантажені корінні шийки 2–3 і 3–4:",
                 "Корінну шийку 2–3 (так само навантажена шийка 3–4) навантажують",
             ),
         ),
@@ -803,7 +805,7 @@ INLINE_FIVE = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
                 "2–3 (journal 3–4 carries the same load), carries chiefly",
                 "main journal 2–3 (journal 3–4 carries the same load) is its largest load",
                 "(both at journals 2–3 and 3–4)",
-                "The most loaded main journals are 2–3 and 3–4:",
+                "the most loaded main journals are 2–3 and 3–4:",
             ),
         ),
     ],
@@ -861,7 +863,7 @@ def test_the_allowable_pressures_of_car_engines_are_only_a_guide_for_another_eng
         assert f"The engine is {kind}, not a car or tractor engine" in text
         assert text.count(f"The engine is {kind}") == 2  # and the conclusions'
     # and the conclusions, which repeat the verdicts, say so too, before them
-    concluded = f"The engine is {kind}, so the allowable bearing pressures the"
+    concluded = f"The engine is {kind}, while the allowable bearing pressures its bearings are"
     assert (concluded in text) is said
     if said:  # before the verdicts it qualifies
         assert text.rindex(concluded) < text.rindex("The big-end bearing pressure is within")

@@ -98,10 +98,16 @@ def _conclude(ctx, r, left_without_means: str, no_shafts: str) -> None:
             t(
                 "balancing.conclusion_internal_moment",
                 moment=t.number_g(r["internal_moment_Nm"], 4),
-                coefficient=t.number_g(r["internal_moment_coefficient"], 4),
+                coefficient=multiple_prefix(t, r["internal_moment_coefficient"]),
             )
         )
     _conclude_slaves_and_offset(ctx, r)
+
+
+def multiple_prefix(t, value: float) -> str:
+    """``value`` as the factor written before a product ("1,732·"), or "" for one (C·a, not 1·C·a)."""
+    text = t.number_g(value, 4)
+    return "" if text == "1" else f"{text}·"
 
 
 def _finding(t, r, unbalanced, single: bool) -> str:
@@ -252,6 +258,16 @@ def _rod_offset_sentence(t, r) -> str:
     return t(
         "balancing.rod_offset" + ("_cranks" if couples["cranks"] > 1 else ""),
         offset=t.number_g(couples["offset_m"] * 1e3, 4),
+        means=t(
+            "balancing.rod_offset_means_"
+            + (
+                "shafts"
+                if r["balance_shafts"]
+                else "counterweights"
+                if r["counterweights"]
+                else "none"
+            )
+        ),
         taken={"given": "", "pin_width": t("balancing.rod_offset_pin_width")}.get(
             couples["offset_source"], t("balancing.rod_offset_taken")
         ),
@@ -579,7 +595,7 @@ def _means_sentence(t, r) -> str:
             sentence += " " + t(
                 "balancing.internal_moment_relieved",
                 moment=t.number_g(r["internal_moment_Nm"], 4),
-                coefficient=t.number_g(r["internal_moment_coefficient"], 4),
+                coefficient=multiple_prefix(t, r["internal_moment_coefficient"]),
             )
     return sentence
 
@@ -909,7 +925,13 @@ def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
             label = f"balancing.input_{key}" + (
                 "_one" if key == "balance_shaft_radius" and one_shaft else ""
             )
-            rows.append((t(label), "", t.number_g(value * 1e3, 4), mm))
+            # a radius of means the calculation did not fit: said, or the table reads as if it had
+            unused = fitted is not None and (
+                (key == "counterweight_radius" and not fitted.fitted)
+                or (key == "balance_shaft_radius" and fitted.balance_shafts == 0)
+            )
+            text = t(label) + (" " + t(f"balancing.{key}_unused") if unused else "")
+            rows.append((text, "", t.number_g(value * 1e3, 4), mm))
     if opts.first_order_backward == "left":  # a choice of the assignment's, as the radii are
         rows.append((t("balancing.input_first_order_backward"), "", t("balancing.input_left"), ""))
     return rows

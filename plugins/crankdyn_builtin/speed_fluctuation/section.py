@@ -61,7 +61,9 @@ def _raised_conclusion(ctx, r) -> str | None:
         flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
         delta=ctx.num(r["irregularity"], ADOPTED_DELTA_DIGITS),
         required=ctx.t.number_g(r["required_irregularity"], 6),
-        energy=ctx.num(r["irregularity_energy"], ADOPTED_DELTA_DIGITS),
+        # to the exact solution's digits: at the adopted ones it could print as that δ beside a
+        # difference of the two
+        energy=ctx.num(r["irregularity_energy"], EXACT_DELTA_DIGITS),
         deviation=ctx.num(r["irregularity_deviation_percent"], 2),
     )
 
