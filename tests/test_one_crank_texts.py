@@ -215,9 +215,10 @@ def test_the_running_torque_of_a_crank_is_in_the_list_of_an_engine_of_several_cr
     radial = _html("radial")
     start = radial.index("Наиболее опасные сочетания сил, действующих на колено вала [")
     table = radial[start : radial.index("</table>", start)]
-    assert "<th>Величина, достигающая наибольшего значения</th>" in table
+    assert "<th>Экстремальное значение</th>" in table
     assert "t</i><sub>Σ</sub>" not in table and "|t_Σ|" not in table
-    assert len(re.findall(r"<tr[ >]", table)) == 4  # the header, z, t and q
+    # the header, z and t at their largest and least, q at its largest
+    assert len(re.findall(r"<tr[ >]", table)) == 6
 
 
 def test_the_conclusions_give_the_crank_load_of_all_its_cylinders():

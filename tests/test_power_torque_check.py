@@ -189,6 +189,21 @@ def test_a_journal_torque_that_peaks_alike_twice_takes_the_crank_most_loaded_the
     assert dangerous_combinations(load, load, load, journal)[0]["M"] == 60
 
 
+def test_the_dangerous_combinations_include_the_least_radial_and_tangential_forces():
+    """z and t at their least (most negative: the inertia forces pulling the crank outwards, the
+    torque reversed) close the stress cycle the crank's fatigue check takes, beside the maxima."""
+    import numpy as np
+
+    from crankdyn.physics.crankshaft import dangerous_combinations
+
+    angle = np.radians(np.arange(0.0, 720.0, 1.0))
+    radial = np.cos(angle)[None, :]  # least at 180° (and again at 540°: the first is taken)
+    tangential = np.sin(angle - np.radians(30.0))[None, :]  # least at 300°
+    row = dangerous_combinations(radial, tangential, radial, tangential)[0]
+    assert (row["Z"], row["Zmin"]) == (0, 180)
+    assert (row["T"], row["Tmin"]) == (120, 300)
+
+
 #: A 4Ч 9,2/8,6 four firing 1-2-4-3 at a high peak pressure: the running torque's amplitude is
 #: largest on journal 3-4, its magnitude on the last journal.
 _AMPLITUDE_BEFORE_THE_END = {

@@ -198,7 +198,7 @@ def _danger_table(ctx, r, cranks: int) -> str:
     # one crank: its journal's running torque t_Σ is the crank's own t, so neither the row of
     # its largest |t_Σ| nor its column would add a number; there are no cranks to name
     single = "_single" if cranks == 1 else ""
-    kinds = ("Z", "T", "Q") if cranks == 1 else ("Z", "T", "Q", "M")
+    kinds = ("Z", "Zmin", "T", "Tmin", "Q") + (() if cranks == 1 else ("M",))
     danger_rows = [(d["crank"], kind, d[kind]) for d in r["dangerous"] for kind in kinds]
     return ctx.table(
         [

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .extrema import first_argmax
+from .extrema import first_argmax, first_argmin
 
 
 def running_torques(tangential_by_crank):
@@ -100,9 +100,11 @@ def effective_output(
 def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_Pa):
     """Table B.4: for each crank, the grid index where z, t, q and the journal torque t_k peak.
 
-    Returns a list per crank of dicts {"Z": i, "T": i, "Q": i, "M": i} (indices on the grid).
-    The largest positive z (towards the shaft: gas load) and t, the largest q and the largest
-    |t_k| are the textbook's criteria. The journal torque of an even-firing engine repeats within
+    Returns a list per crank of dicts {"Z": i, "Zmin": i, "T": i, "Tmin": i, "Q": i, "M": i}
+    (indices on the grid). The largest positive z (towards the shaft: gas load) and t, the largest
+    q and the largest |t_k| are the textbook's criteria; the least z (the inertia forces pulling
+    the crank outwards) and t (the most negative) complete the cycle of stress that the crank's
+    fatigue check takes (Kolchin and Demidov 2002, the crank pin's and web's stress ranges). The journal torque of an even-firing engine repeats within
     the cycle, so |t_k| peaks alike at several angles: of those, the one where the crank's own
     load q is largest (the combination the crank's strength is checked for).
     """
@@ -115,7 +117,9 @@ def dangerous_combinations(radial_Pa, tangential_Pa, resultant, journal_torque_P
         out.append(
             {
                 "Z": first_argmax(radial_Pa[k]),
+                "Zmin": first_argmin(radial_Pa[k]),
                 "T": first_argmax(tangential_Pa[k]),
+                "Tmin": first_argmin(tangential_Pa[k]),
                 "Q": first_argmax(resultant[k]),
                 "M": int(alike[first_argmax(loads)]),
             }
