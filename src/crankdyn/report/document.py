@@ -1124,7 +1124,7 @@ def symbol_list_html(
     holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
     markups = [symbol_html(key, language, symbols) for key in keys]
-    magnitudes = _vector_magnitudes(markups)
+    magnitudes = _vector_magnitudes(markups, [symbols[key].unit for key in keys])
     rows = []
     for key, markup in zip(keys, markups, strict=True):
         if markup in magnitudes.values():
@@ -1161,14 +1161,18 @@ def symbol_list_html(
     return html
 
 
-def _vector_magnitudes(markups: list[str]) -> dict[str, str]:
-    """A vector's bold markup -> its magnitude's, the same letters in light type, where the list
-    shows both: one row says both (q_ш.ш, the vector of the crank pin's load, and its magnitude),
-    so that one letter is not listed twice."""
+def _vector_magnitudes(markups: list[str], units: list[str]) -> dict[str, str]:
+    """A vector's bold markup -> its magnitude's, the same letters in light type and the same
+    unit, where the list shows both: one row says both (q_ш.ш, the vector of the crank pin's load,
+    and its magnitude), so that one letter is not listed twice. A light letter of another unit is
+    another quantity (θ, the shaft angle in degrees, beside the torsion's vector of disc angles in
+    radians) and keeps its own row, as does one beside a bold letter of no unit: a matrix (Φ of
+    the mode shapes beside Φ, the cycle's angle) or a unit vector has no magnitude to list."""
+    unit_of = dict(zip(markups, units, strict=True))
     found = {}
     for markup in markups:
         plain = markup.replace("<b>", "").replace("</b>", "")
-        if plain != markup and plain in markups:
+        if plain != markup and unit_of[markup] and unit_of.get(plain) == unit_of[markup]:
             found[markup] = plain
     return found
 

@@ -158,9 +158,12 @@ def mechanical_efficiency(result_key: str) -> PlausibilityRule:
             return []
         low, high = MECHANICAL_EFFICIENCY_RANGE
         above = eta > MAX_MECHANICAL_EFFICIENCY
+        # at 1 or more the given effective power exceeds the diagram's indicated power: no engine
+        # of any kind, so the data contradict each other (not merely an unusual engine)
+        kind = "_impossible" if eta >= 1.0 else "" if above else "_low"
         return [
             (
-                "plausibility.mechanical_efficiency" + ("" if above else "_low"),
+                "plausibility.mechanical_efficiency" + kind,
                 {
                     "eta": float(eta),
                     "limit": MAX_MECHANICAL_EFFICIENCY if above else MIN_MECHANICAL_EFFICIENCY,

@@ -1,0 +1,99 @@
+"""Texts that must follow the engine in front of them: a boosted intake named by its own
+pressures, the radii of means the calculation did not fit, the rods' offset couples against the
+means actually fitted, the kinematics of several cylinders, the mechanical efficiency of data
+that do not belong together, the title page and the list of symbols."""
+
+from __future__ import annotations
+
+import html as html_text
+import re
+
+from conftest import shared_html, shared_run
+
+from crankdyn.report.document import _vector_magnitudes
+from crankdyn.report.plausibility import mechanical_efficiency
+
+
+def _text(name, changes=None, language="en", stages=None) -> str:
+    html = shared_html(name, changes, language, stages).linked_html
+    plain = html_text.unescape(re.sub(r"<[^>]+>", " ", html))
+    return " ".join(plain.replace("\xa0", " ").split())
+
+
+#: The petrol single with an intake above its exhaust pressure (a supercharged engine).
+BOOSTED = {"cycle": {"intake_pressure": "0.15 MPa", "exhaust_pressure": "0.12 MPa"}}
+
+
+def test_a_boosted_engines_pumping_gain_is_said_with_its_own_pressures():
+    run = shared_run("petrol-1cyl", BOOSTED, ("indicator",))
+    assert run.outputs["indicator"].results["pumping_work_J"] > 0
+    text = _text("petrol-1cyl", BOOSTED, "en", ("indicator",))
+    assert (
+        "Here the intake pressure p a = 0.1500 MPa is above the exhaust pressure p r = 0.1200 MPa"
+        in text
+    )
+    assert "With the intake above the exhaust pressure (boost)" not in text
+    # the valve timing the rounding applies: the exhaust opening and the overlap, not the intake closing
+    assert "the valve overlap about TDC, where the pressure passes from p r to p a" in text
+    assert "the intake valve closing after it" not in text
+
+
+def test_a_radius_of_means_not_fitted_is_marked_in_the_given_data():
+    # an in-line four's crank arrangement balances C and its moment: no counterweights fitted
+    given = {"balancing": {"counterweight_radius": "60 mm", "balance_orders": []}}
+    r = shared_run("inline4-petrol", given, ("balancing",)).outputs["balancing"].results
+    assert not r["counterweights"] and not r["balance_shafts"]
+    text = _text("inline4-petrol", given, "en", ("balancing",))
+    assert "Radius of the counterweights' centre of mass (no counterweights fitted) 60 mm" in text
+    # fitted ones are not marked
+    every = {"balancing": {"counterweight_radius": "60 mm", "counterweights": "every_crank"}}
+    assert "(no counterweights fitted)" not in _text("inline4-petrol", every, "en", ("balancing",))
+
+
+def test_the_rod_offset_couples_are_set_against_the_means_the_engine_has():
+    """A V8's rods side by side on the pins: without balance shafts the sentence names the
+    counterweights only (not shafts the engine lacks)."""
+    r = shared_run("v8-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert r["counterweights"] and not r["balance_shafts"]
+    text = _text("v8-petrol", None, "en", ("balancing",))
+    assert "the counterweights, which lie in the cranks' planes, do not remove them" in text
+    assert "balance shafts, which lie" not in text
+
+
+def test_several_cylinders_kinematics_count_each_alpha_from_its_own_tdc():
+    sentence = "for each, α is measured from its own TDC"
+    assert sentence in _text("inline4-petrol", None, "en", ("kinematics",))
+    assert sentence not in _text("petrol-1cyl", None, "en", ("kinematics",))
+    # a radial engine's articulated rods move their pistons otherwise than the master's
+    assert sentence not in _text("radial9-aircraft", None, "en", ("kinematics",))
+
+
+def test_a_mechanical_efficiency_of_one_or_more_is_said_to_be_impossible():
+    rule = mechanical_efficiency("eta")
+    assert rule.check(None, {"eta": 0.85}) == []
+    assert rule.check(None, {"eta": 0.97})[0][0] == "plausibility.mechanical_efficiency"
+    assert rule.check(None, {"eta": 1.0})[0][0] == "plausibility.mechanical_efficiency_impossible"
+    assert rule.check(None, {"eta": 1.98})[0][0] == "plausibility.mechanical_efficiency_impossible"
+    assert rule.check(None, {"eta": 0.5})[0][0] == "plausibility.mechanical_efficiency_low"
+
+
+def test_a_subtitle_naming_the_discipline_is_not_printed_under_it_again():
+    named = {
+        "report": {
+            "discipline": "Marine engines",
+            "subtitle": "Course project in Marine engines",
+        }
+    }
+    text = _text("kinematics-only", named, "en", ())
+    assert text.count("Marine engines") == 1
+    other = {"report": {"discipline": "Marine engines", "subtitle": "Variant of the spring term"}}
+    assert "Variant of the spring term" in _text("kinematics-only", other, "en", ())
+
+
+def test_a_light_letter_is_the_bold_ones_magnitude_only_in_the_same_unit():
+    vector, magnitude = "<b><i>q</i></b><sub>p</sub>", "<i>q</i><sub>p</sub>"
+    assert _vector_magnitudes([vector, magnitude], ["unit.MPa", "unit.MPa"]) == {vector: magnitude}
+    # the torsion's vector of disc angles (rad) and the balancing's shaft angle (°)
+    assert _vector_magnitudes(["<b><i>θ</i></b>", "<i>θ</i>"], ["unit.rad", "°"]) == {}
+    # a matrix (no unit) has no magnitude: Φ of the mode shapes beside the cycle's angle Φ
+    assert _vector_magnitudes(["<b>Φ</b>", "Φ"], ["", ""]) == {}
