@@ -1042,7 +1042,7 @@ def test_the_means_describe_balance_shafts_only_where_shafts_are_fitted(name, sh
     text = re.sub(r"<[^>]+>", "", shared_html(name, None, "en").linked_html)
     assert "needs a balance shaft turning at ν·ω" in text
     assert (
-        "Each shaft carries two masses, in the planes of the end cranks" in text
+        "A balance shaft carries two masses, in the planes of the end cranks" in text
     ) is shafts_fitted
 
 

@@ -107,8 +107,11 @@ def test_an_effective_power_above_the_indicated_one_is_pointed_out(tmp_path):
     html = render_html(result, registry).linked_html
     # said once, in the section's plausibility sentence and its conclusion (not also in the
     # stage's own paragraph)
-    assert html.count("is above 0.95, whereas a real engine") == 1, html
-    assert html.count("The mechanical efficiency is above that of piston engines") == 1
+    assert html.count("is not below one, which no engine can have") == 1, html
+    assert (
+        html.count("The mechanical efficiency comes out at one or above, which is impossible") == 1
+    )
+    assert "is above 0.95, whereas a real engine" not in html
 
 
 def test_each_main_journals_torque_range_and_amplitude():

@@ -97,3 +97,26 @@ def test_a_light_letter_is_the_bold_ones_magnitude_only_in_the_same_unit():
     assert _vector_magnitudes(["<b><i>θ</i></b>", "<i>θ</i>"], ["unit.rad", "°"]) == {}
     # a matrix (no unit) has no magnitude: Φ of the mode shapes beside the cycle's angle Φ
     assert _vector_magnitudes(["<b>Φ</b>", "Φ"], ["", ""]) == {}
+
+
+#: A 60° V6 on three shared pins (cranks 0°, 240°, 120°): its free second-order moment turns.
+V6_SHARED_PINS = {
+    "engine": {
+        "cylinders": 6,
+        "bank_angle_deg": 60,
+        "firing_order": ["1L", "1R", "2L", "2R", "3L", "3R"],
+        "crank_angles_deg": [0, 240, 120],
+        "uneven_firing": True,
+    },
+    "balancing": {"balance_orders": []},
+}
+
+
+def test_a_rotating_free_moment_of_a_higher_order_is_said_to_turn_at_that_speed():
+    r = shared_run("v8-petrol", V6_SHARED_PINS, ("balancing",)).outputs["balancing"].results
+    second = next(o for o in r["orders"] if o["order"] == 2)
+    assert second["moment_hodograph"]["sense"] == "forward"
+    text = _text("v8-petrol", V6_SHARED_PINS, "en", ("balancing",))
+    assert "Σ M II turns with the shaft at 2ω, at a constant size" in text
+    # the centrifugal forces' moment turns at ω, said without a speed
+    assert "Σ M C turns with the shaft at a constant size" in text

@@ -769,14 +769,15 @@ def free_motion_sentence(t, r, kind: str) -> str:
     there are none, for one cylinder, and for a moment where all cylinders lie in one plane."""
     if len(r["cylinder_labels"]) == 1 or (kind == "moment" and one_plane(r)):
         return ""
-    alike: dict[tuple[str, str], list[str]] = {}
+    alike: dict[tuple[str, str, int], list[str]] = {}
     for o in r["orders"]:
         if o[f"{kind}_coefficient"] * o["amplitude_N"] < NEGLIGIBLE_SHARE * r["first_order_N"]:
             continue
         hodograph = o[f"{kind}_hodograph"]
         angle = axis_text(t, hodograph["major_axis_deg"])
+        speed = max(1, int(o["order"]))  # ν·ω: the centrifugal force and order 1 turn at ω
         if circular(hodograph):
-            key = f"balancing.{kind}_turns_" + hodograph["sense"]
+            key = f"balancing.{kind}_turns_" + hodograph["sense"] + ("_at" if speed > 1 else "")
         elif hodograph["sense"] != "line":
             key = f"balancing.{kind}_ellipse_" + hodograph["sense"]
         else:
@@ -787,10 +788,12 @@ def free_motion_sentence(t, r, kind: str) -> str:
                 "vertical" if vertical else "horizontal" if horizontal else "at"
             )
         quantity = ("M_" if kind == "moment" else "sum_") + o["name"]
-        alike.setdefault((key, angle), []).append(plain_symbol({"quantity": quantity}))
+        # a rotating one's speed is said; pulsating ones act alike whatever their order
+        said_speed = speed if key.endswith("_at") else 0
+        alike.setdefault((key, angle, said_speed), []).append(plain_symbol({"quantity": quantity}))
     items = [
-        t(key, symbol=t.join_and(symbols), n=len(symbols), angle=angle)
-        for (key, angle), symbols in alike.items()
+        t(key, symbol=t.join_and(symbols), n=len(symbols), angle=angle, speed=speed)
+        for (key, angle, speed), symbols in alike.items()
     ]
     if not items:
         return ""

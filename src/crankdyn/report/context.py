@@ -346,6 +346,8 @@ class RenderContext:
             and not all(_NUMBER_TEXT.fullmatch(str(v)) or str(v) == "" for v in values)
             for _, values, decimals in columns
         ]
+        # a column of large values keeps at most TABLE_SIGNIFICANT digits (877 306 N·m, not 877 306,3)
+        columns = [(h, values, table_decimals(values, d)) for h, values, d in columns]
         rows = []
         for i in range(n_rows):
             cells = []
@@ -643,6 +645,24 @@ WRAP_CHARS = 20
 
 _CELL = re.compile(r"<t[hd][^>]*>(.*?)</t[hd]>", re.S)
 #: A cell that is a number as printed ("−1 234,5", "372,5", "1,2·10⁻³", "0,6150 кг"), not words.
+#: The most significant digits a table column's largest value is given with: a big engine's
+#: torque of 877 306 N·m to a tenth (seven digits) claims more than its inputs hold.
+TABLE_SIGNIFICANT = 6
+
+
+def table_decimals(values, decimals: int | None) -> int | None:
+    """The decimals a numeric column is printed with: ``decimals``, fewer where its largest value
+    would otherwise show more than :data:`TABLE_SIGNIFICANT` digits (None: a text column)."""
+    if decimals is None:
+        return None
+    sizes = [abs(float(v)) for v in values if isinstance(v, (int, float, np.floating))]
+    largest = max((v for v in sizes if np.isfinite(v)), default=0.0)
+    if largest < 1.0:
+        return decimals
+    whole_digits = int(np.floor(np.log10(largest))) + 1
+    return max(0, min(decimals, TABLE_SIGNIFICANT - whole_digits))
+
+
 _NUMBER_TEXT = re.compile(
     r"[−\-+]?[\d\s\u00a0\u202f,.]*\d(?:·10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+)?"
     r"(?:[\s\u00a0\u202f][^\d\s]{1,8})?(?:\s\([^()]*\))?"
