@@ -120,3 +120,15 @@ def test_a_rotating_free_moment_of_a_higher_order_is_said_to_turn_at_that_speed(
     assert "Σ M II turns with the shaft at 2ω, at a constant size" in text
     # the centrifugal forces' moment turns at ω, said without a speed
     assert "Σ M C turns with the shaft at a constant size" in text
+
+
+def test_a_rod_model_other_than_the_forces_one_is_said_to_be_this_sections_own():
+    """The forces and the total torque keep the textbook's two-mass split whatever rod model the
+    rod-dynamics section takes: its conclusion must not say that the calculation used another."""
+    inertia = {"masses": {"rod_moment_of_inertia": "0.02 kg m^2"}}
+    three = {**inertia, "rod_dynamics": {"model": "three_mass"}}
+    text = _text("diesel-1cyl", three, "en", ("rod_dynamics",))
+    assert "the forces and the total torque keep the textbook's two-mass split" in text
+    assert "the calculation uses" not in text
+    two = _text("diesel-1cyl", inertia, "en", ("rod_dynamics",))
+    assert "the calculation uses the textbook's two-mass split" in two

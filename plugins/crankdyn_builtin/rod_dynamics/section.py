@@ -64,7 +64,8 @@ def render(output: StageOutput, ctx) -> str:
     if exact:
         ctx.conclude(
             t(
-                "rod_dynamics.conclusion",
+                # another model than the two-mass one is this section's: the forces keep theirs
+                "rod_dynamics.conclusion" + ("" if r["model"] == "two_mass" else "_apart"),
                 couple=ctx.num(r["inertia_couple_max_Nm"]),
                 difference=ctx.num(r["torque_difference_max_abs_Nm"]),
                 relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
