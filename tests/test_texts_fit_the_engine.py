@@ -132,3 +132,24 @@ def test_a_rod_model_other_than_the_forces_one_is_said_to_be_this_sections_own()
     assert "the calculation uses" not in text
     two = _text("diesel-1cyl", inertia, "en", ("rod_dynamics",))
     assert "the calculation uses the textbook's two-mass split" in two
+
+
+def test_the_split_pin_offset_that_would_even_a_v_engines_firing():
+    from crankdyn_builtin.bays.section import split_pin_offset_deg
+
+    assert split_pin_offset_deg(6, 3, 60.0, 120.0) == 60.0  # a 60° V6
+    assert split_pin_offset_deg(6, 3, 90.0, 120.0) == 30.0  # a 90° V6 (the even-fire 30° split)
+    assert split_pin_offset_deg(10, 5, 90.0, 72.0) == 18.0  # a 90° V10
+    assert split_pin_offset_deg(8, 4, 90.0, 90.0) is None  # a 90° V8 fires evenly already
+    assert split_pin_offset_deg(2, 1, 90.0, 360.0) is None  # a V-twin: not said
+    assert split_pin_offset_deg(6, 6, 60.0, 120.0) is None  # a pin of its own for each cylinder
+
+
+def test_a_v6_on_shared_pins_is_told_how_even_firing_is_had():
+    text = _text("v8-petrol", V6_SHARED_PINS, "en", ("bays",))
+    assert "intervals" in text
+    assert (
+        "Even firing every 120° is obtained by offsetting the left and right banks' crank pins "
+        "from each other by 60° (split pins)"
+    ) in text
+    assert "split pins" not in _text("v8-petrol", None, "en", ("bays",))

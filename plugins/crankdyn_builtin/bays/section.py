@@ -410,14 +410,30 @@ def _uneven_text(r, ctx) -> str | None:
     intervals = r["firing_intervals_deg"]
     cycle = sum(intervals)
     bank = ctx.scene.engine.bank_angle_deg if ctx.scene is not None else None
-    return t(
+    even = cycle / len(intervals)
+    text = t(
         one_crank_key("bays.uneven_bank" if bank else "bays.uneven", r, t),
         cycle=t.number_g(cycle, 4),
         cranks="; ".join(t.number_g(x, 4) for x in r["crank_angles_deg"]),
         bank=t.number_g(bank, 4) if bank else "",
         intervals=t.degrees_and(intervals),
-        even=t.number_g(cycle / len(intervals), 4),
+        even=t.number_g(even, 4),
     )
+    split = split_pin_offset_deg(len(intervals), len(r["crank_angles_deg"]), bank, even)
+    if ctx.scene is not None and ctx.scene.engine.layout == "V" and split:
+        text += " " + t("bays.split_pins", even=t.number_g(even, 4), offset=t.number_g(split, 4))
+    return text
+
+
+def split_pin_offset_deg(cylinders: int, cranks: int, bank_deg, even_deg: float) -> float | None:
+    """The offset between the two banks' pins of a crank that would space a V engine's firings
+    evenly (a 60° V6: 120° − 60° = 60°; a 90° V6: 30°; a 90° V10: 18°), where its rods share the
+    pins (two cylinders a crank) and there are at least three cranks; None otherwise."""
+    if not bank_deg or cylinders < 6 or cylinders != 2 * cranks:
+        return None
+    offset = abs(even_deg - bank_deg) % 180.0
+    offset = min(offset, 180.0 - offset)
+    return offset if 1e-6 < offset < 90.0 else None
 
 
 #: The articulated rods' letters (textbook §3.3, eq. (27)-(33); meanings: symbol.bays.<key> in
