@@ -153,3 +153,18 @@ def test_a_v6_on_shared_pins_is_told_how_even_firing_is_had():
         "from each other by 60° (split pins)"
     ) in text
     assert "split pins" not in _text("v8-petrol", None, "en", ("bays",))
+
+
+def test_a_crosshead_engines_side_force_acts_on_the_guides():
+    """A crosshead engine's side force presses the crosshead's slide on its guides, and its
+    reciprocating mass is the piston's with the piston rod and the crosshead: no text of the
+    note puts the piston against the cylinder wall."""
+    crosshead = {"engine": {"crosshead": True}}
+    text = _text("diesel-1cyl", crosshead, "en")
+    assert "specific side force pressing the crosshead's slide against its guides" in text
+    assert "the side force on the crosshead's guides largest in magnitude is N" in text
+    assert "Mass of the reciprocating parts (piston, piston rod and crosshead)" in text
+    assert "A the crosshead pin axis" in text
+    assert "cylinder wall" not in text and "piston pin" not in text
+    # the same engine without a crosshead keeps the trunk piston's texts
+    assert "cylinder wall" in _text("diesel-1cyl", None, "en")

@@ -505,8 +505,10 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     a shaft of one crank ("without its crank's mass", not "its cranks' masses"), a W, Y or X
     engine's (its bank angle between adjacent banks), an aircraft engine's (its propeller's
     inertia where another engine has a flywheel's), an engine with banks (its frame along the
-    banks' axis of symmetry)."""
+    banks' axis of symmetry); a crosshead engine's first (its side force on the guides)."""
     forms = []
+    if getattr(scene.engine, "crosshead", False):
+        forms.append("crosshead")  # the side force on the crosshead's guides, its moving parts
     if scene.engine.layout in ("V", "W", "Y", "X", "boxer"):
         forms.append("vertical")  # an engine frame along the banks' axis of symmetry
     if scene.engine.cylinders == 1:
@@ -525,11 +527,14 @@ def _meaning_forms(scene) -> tuple[str, ...]:
 
 
 def text_variant(scene) -> tuple[str, ...]:
-    """The variants of the catalogs' texts for ``scene``'s engine (:class:`Translator`): an
+    """The variants of the catalogs' texts for ``scene``'s engine (:class:`Translator`): a
+    crosshead engine's side force acts on the crosshead's guides (``"crosshead"``); an
     aircraft engine's propeller takes the flywheel's part (``"propeller"``); a V, W, Y, X,
     boxer or radial engine, whose cylinders lie in more than one plane, is balanced by the
     arrangement of its cylinders and cranks, not of its cranks alone (``"banked"``)."""
     variants = []
+    if getattr(scene.engine, "crosshead", False):
+        variants.append("crosshead")  # the side force on the crosshead's guides, its pin A
     if getattr(scene.engine, "application", None) == "aircraft":
         variants.append("propeller")
     engine = scene.engine

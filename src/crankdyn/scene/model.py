@@ -221,6 +221,10 @@ class Engine(_Strict):
     crank_angles_deg: list[_number(ge=-720, le=720)] | None = None
     cylinder_spacing: _quantity("length", gt=0, le=10.0, unit="mm", scale=1e-3) | None = None
     uneven_firing: bool = False
+    #: a crosshead engine (a low-speed marine diesel): the piston rod and the crosshead move with
+    #: the piston (the piston group's mass counts them), and the side force presses the
+    #: crosshead's slide on its guides, not the piston on the cylinder wall
+    crosshead: bool = False
     #: N_e, the rated effective power from the thermal calculation (Poda §1 lists it among the
     #: inputs): the torque section then gives the mechanical efficiency N_e/N_i and the mean
     #: effective torque N_e/ω beside the indicated ones.
