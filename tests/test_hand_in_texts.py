@@ -574,8 +574,8 @@ def test_the_conclusions_name_the_most_loaded_main_journal_as_its_table_gives_it
     conclusions = conclusions.replace("\u202f", " ").replace("\u00a0", " ")
     assert (
         f"За найбільшою за цикл силою найбільш навантажена корінна шийка {label}: до {r_max} кН за середнього тиску на "
-        f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}°, відлічуваним, як у табл. "
-        f"{table.group(1)}."
+        f"підшипник {p_mean} МПа; отвір для мастила в ній – під кутом {oil}° (відлік – як у табл. "
+        f"{table.group(1)})."
     ) in conclusions
 
 
