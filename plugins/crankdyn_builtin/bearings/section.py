@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from markupsafe import Markup
+
 from crankdyn.physics import bearings as brg
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
@@ -254,17 +256,34 @@ def _rods_table(ctx, r) -> str:
     t = ctx.t
     rods, labels = rod_rows(r["rod_bearings"], ctx.t.cylinder)
     width_mm = r["rod_bearings"][0]["width_m"] * 1e3
-    return ctx.table(
-        [
-            (t("bearings.cylinder"), labels, None),
-            ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [x["max_N"] / 1e3 for x in rods], 2),
-            ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [x["mean_N"] / 1e3 for x in rods], 2),
-            ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [x["max_MPa"] for x in rods], 2),
-            ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [x["mean_MPa"] for x in rods], 2),
-        ],
-        caption=t("bearings.rods_table_caption", width=ctx.num(width_mm, 4)),
-        see="bearings.see_rods",
-    ) + worked_bearing(ctx, r, "rod")
+    return (
+        ctx.table(
+            [
+                (t("bearings.cylinder"), labels, None),
+                ("<i>Q</i><sub>max</sub>, " + t("unit.kN"), [x["max_N"] / 1e3 for x in rods], 2),
+                ("<i>Q</i><sub>mean</sub>, " + t("unit.kN"), [x["mean_N"] / 1e3 for x in rods], 2),
+                ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [x["max_MPa"] for x in rods], 2),
+                ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [x["mean_MPa"] for x in rods], 2),
+            ],
+            caption=t("bearings.rods_table_caption", width=ctx.num(width_mm, 4)),
+            see="bearings.see_rods",
+        )
+        + worked_bearing(ctx, r, "rod")
+        + _rod_above_pin(ctx, r)
+    )
+
+
+def _rod_above_pin(ctx, r) -> str:
+    """Where one rod's bearing carries more than the pin does from all its rods (a diesel's
+    firing rod while its neighbour's inertia pulls the other way): why, as a paragraph; "" else."""
+    rod = max(x["max_N"] for x in r["rod_bearings"])
+    pin = max(x["max_N"] for x in r["crank_pins"])
+    if ctx.t.fixed(rod / 1e3, 2) <= ctx.t.fixed(pin / 1e3, 2) or rod <= pin:
+        return ""
+    text = ctx.t(
+        "bearings.rod_above_pin", rod=ctx.t.fixed(rod / 1e3, 2), pin=ctx.t.fixed(pin / 1e3, 2)
+    )
+    return Markup("<p>{}</p>").format(text)
 
 
 def _journals_table(ctx, r, single: bool) -> tuple[str, str]:
