@@ -168,6 +168,10 @@ def test_a_crosshead_engines_side_force_acts_on_the_guides():
     assert "cylinder wall" not in text and "piston pin" not in text
     # the same engine without a crosshead keeps the trunk piston's texts
     assert "cylinder wall" in _text("diesel-1cyl", None, "en")
+    # the rod's upper end is the crosshead's
+    with_rod = {"engine": {"crosshead": True}, "masses": {"rod_moment_of_inertia": "0.02 kg m^2"}}
+    rod_text = _text("diesel-1cyl", with_rod, "en")
+    assert "small (crosshead) end" in rod_text and "small end" not in rod_text
 
 
 def test_a_big_end_bearing_loaded_above_its_pin_is_explained():
