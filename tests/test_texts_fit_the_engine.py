@@ -8,6 +8,7 @@ from __future__ import annotations
 import html as html_text
 import re
 
+import pytest
 from conftest import shared_html, shared_run
 
 from crankdyn.report.document import _vector_magnitudes
@@ -191,3 +192,27 @@ def test_a_big_end_bearing_loaded_above_its_pin_is_explained():
     assert "exceeds the largest load on the crank pin" not in _text(
         "v8-petrol", None, "en", ("bearings",)
     )
+
+
+def test_a_slow_engines_small_table_values_keep_four_digits():
+    """A low-speed marine engine's piston acceleration (about 160 m/s²) printed without decimals
+    would leave the worked line's p_j off its own result in the third digit."""
+    from crankdyn.report.worked import column_decimals
+
+    assert column_decimals([17168.0, -9683.0], 0) == 0  # a car engine's j: as before
+    assert column_decimals([157.93, -100.2], 0) == 1
+    assert column_decimals([-22.137, 5.0], 0) == 2
+    assert column_decimals([164.2], 1) == 1  # ω_r of a car engine: unchanged
+    assert column_decimals([0.004], 0) == 3  # at most three more
+    assert column_decimals([0.0, float("nan")], 2) == 2
+    slow = {"engine": {"rpm": 120}}
+    r = shared_run("diesel-1cyl", slow, ("forces",)).outputs["forces"].results
+    assert r is not None
+    text = _text("diesel-1cyl", slow, "en", ("forces",)).replace("\u2060", "").replace(" ", "")
+    worked = re.search(
+        r"pj=−msjp/Fp=\(−([\d.]+)·\((−?[\d.]+)\)/([\d.]+)\)·10−6=(−?[\d.]+)MPa", text
+    )
+    assert worked
+    m, j, area, result = (float(x.replace("−", "-")) for x in worked.groups())
+    assert "." in worked.group(2)  # j printed with decimals: 9,94 m/s², not 10
+    assert -m * j / area * 1e-6 == pytest.approx(result, abs=1.5e-3)

@@ -16,6 +16,7 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
+    column_decimals,
     printed,
     printed_fixed,
     worked_markup,
@@ -111,7 +112,11 @@ def _table_b1(ctx, f, mpa: dict, r, grid, t_extremes) -> tuple[str, str]:
                 2,
             ),  # mm, as table 2.1
             ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"][rows], 2),
-            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"][rows], 0),
+            (
+                "<i>j</i><sub>p</sub>, " + t("unit.m_s2"),
+                f["piston_acceleration_m_s2"][rows],
+                column_decimals(f["piston_acceleration_m_s2"][rows], 0),
+            ),
             ("<i>p</i><sub>g</sub>", mpa["gas_Pa"][rows], 3),
             ("<i>p</i><sub>j</sub>", mpa["inertia_Pa"][rows], 3),
             ("<i>p</i><sub>jI</sub>", mpa["inertia_first_order_Pa"][rows], 3),
@@ -232,8 +237,12 @@ def _worked(ctx, rows, labels, r):
     alpha, row = float(labels[i]), rows.row(i)
     m_txt, m_s = printed(t, r["reciprocating_mass_kg"])
     f_txt, area = printed(t, r["piston_area_m2"])
-    j = round(float(row["piston_acceleration_m_s2"]))  # as table B.1 prints it
-    j_txt = t.fixed(j, 0)
+    # as table B.1 prints it
+    j_txt, j = printed_fixed(
+        t,
+        float(row["piston_acceleration_m_s2"]),
+        column_decimals(rows["piston_acceleration_m_s2"], 0),
+    )
     p_j = float(row["inertia_Pa"]) / 1e6
     g_txt, p_g = printed_fixed(t, float(row["gas_Pa"]) / 1e6, 3)
     pj_txt, p_j_printed = printed_fixed(t, p_j, 3)

@@ -11,6 +11,7 @@ from crankdyn.report.typeset import symbol_html
 from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
+    column_decimals,
     printed,
     snapped,
     worked_markup,
@@ -21,6 +22,36 @@ from .compute import TWO_TERM_DIGITS
 from .figures import _piston_figure, _rod_cm_figure, _rod_figure
 
 
+def _table(ctx, f, labels):
+    """The piston's and the rod's motion at the table's angles (table 2.1)."""
+    t = ctx.t
+    return ctx.table(
+        [
+            ("<i>α</i>, °", labels, 0),
+            ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
+            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
+            (
+                "<i>j</i><sub>p</sub>, " + t("unit.m_s2"),
+                f["piston_acceleration_m_s2"],
+                column_decimals(f["piston_acceleration_m_s2"], 0),
+            ),
+            ("<i>β</i>, °", f["rod_angle_deg"], 2),
+            (
+                "<i>ω</i><sub>r</sub>, " + t("unit.rad_s"),
+                f["rod_angular_velocity_rad_s"],
+                column_decimals(f["rod_angular_velocity_rad_s"], 1),
+            ),
+            (
+                "<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"),
+                f["rod_angular_acceleration_rad_s2"],
+                column_decimals(f["rod_angular_acceleration_rad_s2"], 0),
+            ),
+        ],
+        caption=t("kinematics.table_caption" + _master_suffix(ctx)),
+        see="kinematics.see_table",
+    )
+
+
 def render(output: StageOutput, ctx) -> str:
     frame = output.tables.arrays("kinematics")
     r = output.results
@@ -28,19 +59,7 @@ def render(output: StageOutput, ctx) -> str:
     # The motion repeats every revolution, so one revolution is tabulated.
     rows, labels = sample_rows(frame["crank_angle_deg"], ctx.table_step_deg, span_deg=360.0)
     f = frame.take(rows)
-    table = ctx.table(
-        [
-            ("<i>α</i>, °", labels, 0),
-            ("<i>s</i><sub>p</sub>, " + t("unit.mm"), f["piston_displacement_m"] * 1e3, 2),
-            ("<i>v</i><sub>p</sub>, " + t("unit.m_s"), f["piston_velocity_m_s"], 2),
-            ("<i>j</i><sub>p</sub>, " + t("unit.m_s2"), f["piston_acceleration_m_s2"], 0),
-            ("<i>β</i>, °", f["rod_angle_deg"], 2),
-            ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), f["rod_angular_velocity_rad_s"], 1),
-            ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), f["rod_angular_acceleration_rad_s2"], 0),
-        ],
-        caption=t("kinematics.table_caption" + _master_suffix(ctx)),
-        see="kinematics.see_table",
-    )
+    table = _table(ctx, f, labels)
     worked = _worked(ctx, f, labels, r) if r["method"] == "exact" else None
 
     figure_main = ctx.figure(
@@ -131,7 +150,7 @@ def _worked(ctx, rows, labels, r):
             "<i>Rω</i><sup>2</sup>[cos(<i>α</i> + <i>β</i>)/cos <i>β</i> + <i>λ</i> cos<sup>2</sup><i>α</i>/cos<sup>3</sup><i>β</i>]",
             f"{r_txt}·{w_txt}<sup>2</sup>·[cos({a}° + {b_txt}°)/cos {b_txt}° + {l_txt}·cos<sup>2</sup> {a}°/cos<sup>3</sup> {b_txt}°]",
             float(row["piston_acceleration_m_s2"]),
-            0,
+            column_decimals(rows["piston_acceleration_m_s2"], 0),  # as the table prints it
             t("unit.m_s2"),
             inputs,
         ),

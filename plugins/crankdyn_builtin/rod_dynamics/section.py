@@ -7,28 +7,25 @@ from functools import partial
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
-from crankdyn_builtin.rod_dynamics.worked import worked_rod_dynamics
+from crankdyn_builtin.rod_dynamics.worked import rod_table_decimals, worked_rod_dynamics
 
 from .figures import _motion_figure, _torque_figure
 
 
-def render(output: StageOutput, ctx) -> str:
-    t = ctx.t
-    f = output.tables.arrays("rod_dynamics")
-    r = output.results
-    exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
-    angle = f["crank_angle_deg"]
-    # the motion's own period: one turn, or the turns after which a planetary mechanism repeats
-    period = r.get("period_deg", 360.0)
-    rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
-    g = f.take(rows)
+def _columns(t, g, labels, exact: bool) -> list:
+    """The table's columns: the rod's motion, its inertia couple and the torques."""
+    omega_dec, eps_dec, ax_dec, az_dec = rod_table_decimals(g)
     columns = [
         ("<i>α</i>, °", labels, 0),
         ("<i>β</i>, °", g["rod_angle_deg"], 2),
-        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], 1),
-        ("<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"), g["rod_angular_acceleration_rad_s2"], 0),
-        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"], 0),
-        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"], 0),
+        ("<i>ω</i><sub>r</sub>, " + t("unit.rad_s"), g["rod_angular_velocity_rad_s"], omega_dec),
+        (
+            "<i>ε</i><sub>r</sub>, " + t("unit.rad_s2"),
+            g["rod_angular_acceleration_rad_s2"],
+            eps_dec,
+        ),
+        ("<i>a</i><sub>Gx</sub>, " + t("unit.m_s2"), g["cm_acceleration_x_m_s2"], ax_dec),
+        ("<i>a</i><sub>Gz</sub>, " + t("unit.m_s2"), g["cm_acceleration_z_m_s2"], az_dec),
         ("<i>M</i><sub>2</sub>, " + t("unit.Nm"), g["torque_two_mass_Nm"], 2),
     ]
     if exact:
@@ -41,6 +38,20 @@ def render(output: StageOutput, ctx) -> str:
                 3,
             ),
         ]
+    return columns
+
+
+def render(output: StageOutput, ctx) -> str:
+    t = ctx.t
+    f = output.tables.arrays("rod_dynamics")
+    r = output.results
+    exact = "torque_exact_Nm" in f  # the rod's moment of inertia was given
+    angle = f["crank_angle_deg"]
+    # the motion's own period: one turn, or the turns after which a planetary mechanism repeats
+    period = r.get("period_deg", 360.0)
+    rows, labels = sample_rows(angle, ctx.table_step_deg, span_deg=period)
+    g = f.take(rows)
+    columns = _columns(t, g, labels, exact)
     table = ctx.table(
         columns,
         caption=t("rod_dynamics.table_caption" if exact else "rod_dynamics.table_caption_two"),

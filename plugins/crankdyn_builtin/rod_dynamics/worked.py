@@ -10,11 +10,23 @@ from crankdyn.report.worked import (
     WorkedBlock,
     WorkedStep,
     bracketed,
+    column_decimals,
     printed,
     printed_fixed,
     worked_markup,
     worked_row,
 )
+
+
+def rod_table_decimals(g) -> tuple[int, int, int, int]:
+    """The decimals the table prints ω_r, ε_r, a_Gx and a_Gz with (its worked line substitutes them
+    so): 1, 0, 0, 0, more for a slow engine's small values (:func:`column_decimals`)."""
+    return (
+        column_decimals(g["rod_angular_velocity_rad_s"], 1),
+        column_decimals(g["rod_angular_acceleration_rad_s2"], 0),
+        column_decimals(g["cm_acceleration_x_m_s2"], 0),
+        column_decimals(g["cm_acceleration_z_m_s2"], 0),
+    )
 
 
 def worked_rod_dynamics(ctx, g, labels, r) -> Markup:
@@ -27,9 +39,10 @@ def worked_rod_dynamics(ctx, g, labels, r) -> Markup:
         for k in ("rod_angle_deg", "rod_angular_velocity_rad_s", "rod_angular_acceleration_rad_s2")
     )
     arm_mm = (r["rod_length_m"] - r["rod_cm_from_big_end_m"]) * 1e3
+    omega_dec, eps_dec, ax_dec, _ = rod_table_decimals(g)
     b_txt, b = printed_fixed(t, beta, 2)  # β, ω_r and ε_r as the table prints them
-    w_txt, w = printed_fixed(t, rate, 1)
-    e_txt, e = printed_fixed(t, accel, 0)
+    w_txt, w = printed_fixed(t, rate, omega_dec)
+    e_txt, e = printed_fixed(t, accel, eps_dec)
     d_txt, d = printed(t, arm_mm, 5)
     inputs = {"arm_mm": d, "beta_deg": b, "omega_r": w, "epsilon_r": e, "alpha_deg": alpha}
     exact = {
@@ -47,7 +60,7 @@ def worked_rod_dynamics(ctx, g, labels, r) -> Markup:
             f"{d_txt}·10<sup>−3</sup>·[{bracketed(e_txt, e)}·cos {bracketed(b_txt, b)}° − {bracketed(w_txt, w)}<sup>2</sup>·sin "
             f"{bracketed(b_txt, b)}°]",
             float(row["cm_acceleration_x_m_s2"]),
-            0,
+            ax_dec,
             t("unit.m_s2"),
             inputs,
             exact=exact,
