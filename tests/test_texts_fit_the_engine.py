@@ -216,3 +216,23 @@ def test_a_slow_engines_small_table_values_keep_four_digits():
     m, j, area, result = (float(x.replace("−", "-")) for x in worked.groups())
     assert "." in worked.group(2)  # j printed with decimals: 9,94 m/s², not 10
     assert -m * j / area * 1e-6 == pytest.approx(result, abs=1.5e-3)
+
+
+def test_a_large_marine_engines_masses_are_accepted_and_bounded():
+    """A low-speed marine engine's piston with rod and crosshead (8,5 t) and rod (I_G 4000 kg·m²)
+    are scene values; 60 t is refused with the field, the value and the bound."""
+    from conftest import modified
+
+    from crankdyn.errors import SceneError
+    from crankdyn.scene.model import scene_from_dict
+
+    big = modified(
+        "diesel-1cyl",
+        {"masses": {"piston_group": "8.5 t", "rod": "6 t", "rod_moment_of_inertia": "4000 kg m^2"}},
+    )
+    assert scene_from_dict(big).masses.piston_group == pytest.approx(8500.0)
+    too_big = modified("diesel-1cyl", {"masses": {"piston_group": "60 t"}})
+    with pytest.raises(
+        SceneError, match=r"masses.piston_group = '60 t': must be > 0 kg and <= 50000 kg"
+    ):
+        scene_from_dict(too_big)

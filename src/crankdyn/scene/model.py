@@ -305,19 +305,27 @@ class _FieldError(ValueError):
         self.field = field
 
 
+#: The largest mass of one mechanism's part, kg: a large low-speed marine engine's piston with its
+#: rod and crosshead, or its connecting rod, weighs some ten tonnes.
+MAX_PART_MASS_KG = 50_000.0
+#: The largest moment of inertia of a connecting rod about its centre of mass, kg m²: such an
+#: engine's rod of ten tonnes and three metres has about 10⁴.
+MAX_ROD_INERTIA_KG_M2 = 50_000.0
+
+
 class Masses(_Strict):
     """Moving masses of one crank mechanism."""
 
-    piston_group: _quantity("mass", gt=0, le=5000, unit="kg")
-    rod: _quantity("mass", gt=0, le=5000, unit="kg")
+    piston_group: _quantity("mass", gt=0, le=MAX_PART_MASS_KG, unit="kg")
+    rod: _quantity("mass", gt=0, le=MAX_PART_MASS_KG, unit="kg")
     rod_cm_from_big_end: _quantity("length", gt=0, unit="mm", scale=1e-3) | None = None
     rod_cm_fraction: _number(gt=0, lt=1) | None = None
-    crank_pin: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
-    crank_web: _quantity("mass", ge=0, le=5000, unit="kg") = "0 kg"
+    crank_pin: _quantity("mass", ge=0, le=MAX_PART_MASS_KG, unit="kg") = "0 kg"
+    crank_web: _quantity("mass", ge=0, le=MAX_PART_MASS_KG, unit="kg") = "0 kg"
     # Moment of inertia of the rod about its centre of mass (rod_dynamics stage).
-    rod_moment_of_inertia: _quantity("moment_of_inertia", gt=0, le=1000, unit="kg m^2") | None = (
-        None
-    )
+    rod_moment_of_inertia: (
+        _quantity("moment_of_inertia", gt=0, le=MAX_ROD_INERTIA_KG_M2, unit="kg m^2") | None
+    ) = None
 
     @model_validator(mode="after")
     def _cm(self) -> Masses:
