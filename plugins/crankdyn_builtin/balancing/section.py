@@ -864,6 +864,12 @@ def render(output: StageOutput, ctx) -> str | None:
         counterweights_internal=bool(r["counterweights"]) and _counterweights_internal_only(r),
         explorer_table=explorer_table,
         rank_tied=_rank_tied_with_first(r.get("explorer")),
+        # the internal moment's factor before C·a, as the conclusions write it
+        internal_factor=(
+            multiple_prefix(ctx.t, r["internal_moment_coefficient"])
+            if r.get("internal_moment_Nm")
+            else ""
+        ),
         spacing=r["cylinder_spacing_m"],
         orders_in_words=partial(orders_in_words, ctx.t),
         mass_difference=mass_difference_sentence(ctx.t, items) if items else "",

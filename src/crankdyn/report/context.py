@@ -22,6 +22,7 @@ from .assets import FIGURE_DIR, templates_dir
 from .formula_lines import unbroken_parts
 from .i18n import Translator
 from .typeset import SYMBOLS, SymbolTable, typeset_figure
+from .worked import whole_digits
 
 
 class FigureFile:
@@ -655,12 +656,10 @@ def table_decimals(values, decimals: int | None) -> int | None:
     would otherwise show more than :data:`TABLE_SIGNIFICANT` digits (None: a text column)."""
     if decimals is None:
         return None
-    sizes = [abs(float(v)) for v in values if isinstance(v, (int, float, np.floating))]
-    largest = max((v for v in sizes if np.isfinite(v)), default=0.0)
-    if largest < 1.0:
+    whole = whole_digits([v for v in values if isinstance(v, (int, float, np.floating))])
+    if whole is None or whole < 1:  # below 1: nothing to cap
         return decimals
-    whole_digits = int(np.floor(np.log10(largest))) + 1
-    return max(0, min(decimals, TABLE_SIGNIFICANT - whole_digits))
+    return max(0, min(decimals, TABLE_SIGNIFICANT - whole))
 
 
 _NUMBER_TEXT = re.compile(

@@ -102,13 +102,19 @@ def column_decimals(values, decimals: int, significant: int = COLUMN_SIGNIFICANT
     ``significant`` digits with them: a slow marine engine's piston acceleration of 158 m/s² is
     printed 157,9, its rod's ε_r of 22 rad/s² 22,14, so that a worked line substituting the
     table's numbers gives back the table's result (at most three decimals more)."""
+    whole = whole_digits(values)
+    if whole is None:
+        return decimals
+    return min(decimals + 3, max(decimals, significant - whole))
+
+
+def whole_digits(values) -> int | None:
+    """The digits before the decimal point of the largest finite magnitude in ``values`` (0 for
+    0,05, 3 for −157,9), or None when there is none above zero."""
     finite = np.abs(np.asarray(values, dtype=float))
     finite = finite[np.isfinite(finite)]
     largest = float(finite.max()) if finite.size else 0.0
-    if largest <= 0.0:
-        return decimals
-    whole_digits = int(np.floor(np.log10(largest))) + 1
-    return min(decimals + 3, max(decimals, significant - whole_digits))
+    return int(np.floor(np.log10(largest))) + 1 if largest > 0.0 else None
 
 
 def printed_fixed(t, value: float, decimals: int) -> tuple[str, float]:
