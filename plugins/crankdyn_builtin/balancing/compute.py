@@ -207,6 +207,39 @@ def failed_check(scene, results=None) -> list[tuple[str, dict]]:
     ]
 
 
+#: The balance table's name of each coefficient of the firing-order explorer.
+_FREED_SYMBOLS = {
+    "sum_C": "ΣC",
+    "M_C": "ΣM_C",
+    "sum_PI": "ΣP_I",
+    "M_PI": "ΣM_I",
+    "sum_PII": "ΣP_II",
+    "M_PII": "ΣM_II",
+}
+
+
+def better_firing(scene, results=None) -> list[tuple[str, dict]]:
+    """A given firing order that leaves a force or moment another even-firing order of the same
+    engine does not (:func:`better_firing_order`): most often an order written in another
+    numbering of the cylinders than the calculation's."""
+    better = (results or {}).get("better_firing")
+    if not better:
+        return []
+    layout = engine_layout(scene)
+    return [
+        (
+            "balancing.plausibility_better_firing",
+            {
+                "order": "–".join(layout.firing_order),
+                "cranks": "; ".join(f"{x:g}" for x in layout.crank_lag_deg),
+                "better": "–".join(better["firing_order"]),
+                "better_cranks": "; ".join(f"{x:g}" for x in better["crank_angles_deg"]),
+                "freed": ", ".join(_FREED_SYMBOLS[k] for k in better["freed"]),
+            },
+        )
+    ]
+
+
 def _pins_off_axes(scene) -> bool:
     """Articulated rods with a knuckle pin off its slave cylinder's axis angle (γ₁ ≠ γ)."""
     if scene.engine.rod_type != "articulated":
@@ -511,6 +544,9 @@ def run(scene, inputs) -> StageOutput:
     notes += _articulated_note(e.rod_type, results, harmonics) + [_check_note(g, all_orders)]
     if opts.explore:
         results["explorer"] = _explore(e, layout, opts.explore_top)
+    better = better_firing_order(scene, layout)
+    if better is not None:
+        results["better_firing"] = better
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     fitted = _fitted(counterweights, e.angular_velocity_rad_s, r_cw, shafts, r_sh)
     return StageOutput(
@@ -704,6 +740,39 @@ def _geometry_results(g) -> dict:
         "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
         "cylinder_labels": list(g.labels),
         "cylinder_bays": [int(b) for b in g.cylinder_bay],
+    }
+
+
+#: The crank arrangements past which a given firing order is not compared with the best one
+#: (the search the scene's default firing order is taken from stops there too).
+MAX_COMPARED_ARRANGEMENTS = 50_000
+
+
+def better_firing_order(scene, layout) -> dict | None:
+    """The best-balanced even-firing order of the engine, when the scene's own order leaves a
+    force or moment that it does not (:func:`crankdyn.physics.firing_explorer.better_balanced`):
+    its order and cranks and the quantities it frees the engine of. None for an order the
+    calculation chose, uneven firing, a radial and searches too large to run with every report."""
+    e = scene.engine
+    if scene.firing_order_chosen or not layout.even_firing or e.layout == "radial":
+        return None
+    if math.factorial(max(layout.cranks - 1, 0)) > MAX_COMPARED_ARRANGEMENTS:
+        return None
+    found = fe.better_balanced(
+        e.cylinders,
+        e.layout,
+        e.strokes,
+        e.bank_angle_deg,
+        layout.crank_lag_deg,
+        layout.firing_order,
+    )
+    if found is None:
+        return None
+    best, freed = found
+    return {
+        "firing_order": list(best.firing_order),
+        "crank_angles_deg": list(best.crank_angles_deg),
+        "freed": list(freed),
     }
 
 

@@ -19,7 +19,7 @@ from crankdyn.plugin.contracts import (
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
-from .compute import applies, failed_check, rod_offset_against_pin, run
+from .compute import applies, better_firing, failed_check, rod_offset_against_pin, run
 from .notation import SYMBOLS
 from .options import BalancingOptions
 from .section import input_rows, render
@@ -41,6 +41,7 @@ BALANCING_STAGE = Stage(
     plausibility=(
         PlausibilityRule("rod_offset_pin", rod_offset_against_pin),
         PlausibilityRule("check_failed", failed_check),
+        PlausibilityRule("better_firing", better_firing),
     ),
     presentation=StagePresentation(
         template_dir=TEMPLATES,

@@ -630,3 +630,39 @@ def second_order_moment_rank(
         "larger": int(np.sum(moments > own + _TIER_TOL)) * per_arrangement,
         "smaller": int(np.sum(moments < own - _TIER_TOL)) * per_arrangement,
     }
+
+
+def better_balanced(
+    cylinders: int,
+    layout: str,
+    strokes: int,
+    bank_angle_deg: float | None,
+    crank_angles_deg,
+    firing_order,
+) -> tuple[Candidate, tuple[str, ...]] | None:
+    """(the top-ranked even-firing order, the :data:`COEFFICIENT_KEYS` it frees the engine of)
+    when it frees it of a force or moment (of the centrifugal forces, of the first or second
+    order) that the given crank arrangement and firing order leave, and leaves none the given one
+    does not; else None.
+
+    A firing order fixes the cranks of an engine whose cylinders each have a crank: written in
+    another numbering of the cylinders (a boxer numbered by banks, not along the shaft) it
+    gives another crankshaft, e.g. one with all four throws of a flat four in line.
+    """
+    try:
+        found = explore(
+            cylinders,
+            layout,
+            strokes,
+            bank_angle_deg,
+            top=1,
+            locate=(tuple(crank_angles_deg), tuple(firing_order)),
+        )
+    except (lay.LayoutError, ValueError):
+        return None
+    if not found.rows or found.located is None:
+        return None
+    best, own = found.rows[0].coefficients, found.located.coefficients
+    freed = tuple(k for k in COEFFICIENT_KEYS if own[k] > _TIER_TOL and best[k] <= _TIER_TOL)
+    worse = any(best[k] > own[k] + _TIER_TOL for k in COEFFICIENT_KEYS)
+    return (found.rows[0], freed) if freed and not worse else None
