@@ -539,14 +539,10 @@ def run(scene, inputs) -> StageOutput:
         **_slave_results(
             g, masses, harmonics, slave_kg, slave_left, dropped, a, opts, scene, layout
         ),
+        **_firing_order_results(scene, layout, opts),
     }
 
     notes += _articulated_note(e.rod_type, results, harmonics) + [_check_note(g, all_orders)]
-    if opts.explore:
-        results["explorer"] = _explore(e, layout, opts.explore_top)
-    better = better_firing_order(scene, layout)
-    if better is not None:
-        results["better_firing"] = better
     table = _time_table(theta, f_td, m_td, residual_F, residual_M, a)
     fitted = _fitted(counterweights, e.angular_velocity_rad_s, r_cw, shafts, r_sh)
     return StageOutput(
@@ -748,16 +744,17 @@ def _geometry_results(g) -> dict:
 MAX_COMPARED_ARRANGEMENTS = 50_000
 
 
-def better_firing_order(scene, layout) -> dict | None:
-    """The best-balanced even-firing order of the engine, when the scene's own order leaves a
-    force or moment that it does not (:func:`crankdyn.physics.firing_explorer.better_balanced`):
-    its order and cranks and the quantities it frees the engine of. None for an order the
-    calculation chose, uneven firing, a radial and searches too large to run with every report."""
+def better_firing_order(scene, layout) -> dict:
+    """``{"better_firing": ...}``: the best-balanced even-firing order of the engine, when the
+    scene's own order leaves a force or moment that it does not
+    (:func:`crankdyn.physics.firing_explorer.better_balanced`): its order and cranks and the
+    quantities it frees the engine of. Empty for an order the calculation chose, uneven firing,
+    a radial and searches too large to run with every report."""
     e = scene.engine
     if scene.firing_order_chosen or not layout.even_firing or e.layout == "radial":
-        return None
+        return {}
     if math.factorial(max(layout.cranks - 1, 0)) > MAX_COMPARED_ARRANGEMENTS:
-        return None
+        return {}
     found = fe.better_balanced(
         e.cylinders,
         e.layout,
@@ -767,13 +764,24 @@ def better_firing_order(scene, layout) -> dict | None:
         layout.firing_order,
     )
     if found is None:
-        return None
+        return {}
     best, freed = found
     return {
-        "firing_order": list(best.firing_order),
-        "crank_angles_deg": list(best.crank_angles_deg),
-        "freed": list(freed),
+        "better_firing": {
+            "firing_order": list(best.firing_order),
+            "crank_angles_deg": list(best.crank_angles_deg),
+            "freed": list(freed),
+        }
     }
+
+
+def _firing_order_results(scene, layout, opts) -> dict:
+    """The explorer's ranking where the scene asks for it, and a better-balanced order than
+    the scene's where one exists (:func:`better_firing_order`)."""
+    out = better_firing_order(scene, layout)
+    if opts.explore:
+        out["explorer"] = _explore(scene.engine, layout, opts.explore_top)
+    return out
 
 
 def _explore(e, layout, top: int) -> dict:
