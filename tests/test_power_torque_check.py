@@ -1,6 +1,5 @@
-"""The torque check by the textbook's eq. (47): M_i = 9555 N_i/n. The exact constant is 30000/π
-(M = N/ω), so the torque from the power differs from the torque from the work, W/(2π·revolutions),
-by exactly 9555/(30000/π) − 1: the only deviation when the torque is right, as the report says."""
+"""The torque check by the indicated power: M_i = N_i/ω = 3·10⁴ N_i/(π n), equal to the torque
+from the work, W/(2π·revolutions), when N_i = W i n/(60 τ/2) is right."""
 
 from __future__ import annotations
 
@@ -21,12 +20,12 @@ def test_indicated_power_of_a_four_stroke_four_cylinder():
 @pytest.mark.parametrize(
     ("work_J", "cylinders", "strokes", "rpm"), [(340.0, 1, 4, 5600.0), (1200.0, 6, 2, 1600.0)]
 )
-def test_power_torque_differs_from_the_work_torque_only_by_the_rounded_constant(
+def test_the_power_torque_is_the_work_torque(
     work_J, cylinders, strokes, rpm
 ):
     from_work = work_J * cylinders / (2 * math.pi * strokes / 2)
     from_power = cs.torque_from_power_Nm(work_J, cylinders, strokes, rpm)
-    assert from_power / from_work == pytest.approx(9555.0 / (30000.0 / math.pi), rel=1e-12)
+    assert from_power == pytest.approx(from_work, rel=1e-12)
 
 
 def test_torque_non_uniformity_is_the_swing_over_the_mean_magnitude():

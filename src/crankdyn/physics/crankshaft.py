@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .extrema import first_argmax, first_argmin
@@ -51,10 +53,9 @@ def indicated_power_kW(indicated_work_J: float, cylinders: int, strokes: int, rp
 def torque_from_power_Nm(
     indicated_work_J: float, cylinders: int, strokes: int, rpm: float
 ) -> float:
-    """Textbook eq. (47): M_i = 9555 N_i / n [N·m] with N_i in kW and n in rpm. The exact constant
-    is 30000/pi = 9549.3 (M = N/omega); the textbook's 9555 gives 0.06 % more, which is all the
-    difference from the torque's mean when the torque itself is right."""
-    return 9555.0 * indicated_power_kW(indicated_work_J, cylinders, strokes, rpm) / rpm
+    """M_i = N_i/ω = 3·10⁴ N_i / (π n) [N·m] with N_i in kW and n in rpm (Poda 2007 eq. (47)
+    rounds the constant 30000/π = 9549.3 up to 9555, 0.06 % more)."""
+    return 30000.0 / math.pi * indicated_power_kW(indicated_work_J, cylinders, strokes, rpm) / rpm
 
 
 def effective_output(
