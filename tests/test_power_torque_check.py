@@ -20,9 +20,7 @@ def test_indicated_power_of_a_four_stroke_four_cylinder():
 @pytest.mark.parametrize(
     ("work_J", "cylinders", "strokes", "rpm"), [(340.0, 1, 4, 5600.0), (1200.0, 6, 2, 1600.0)]
 )
-def test_the_power_torque_is_the_work_torque(
-    work_J, cylinders, strokes, rpm
-):
+def test_the_power_torque_is_the_work_torque(work_J, cylinders, strokes, rpm):
     from_work = work_J * cylinders / (2 * math.pi * strokes / 2)
     from_power = cs.torque_from_power_Nm(work_J, cylinders, strokes, rpm)
     assert from_power == pytest.approx(from_work, rel=1e-12)

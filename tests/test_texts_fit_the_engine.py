@@ -236,3 +236,30 @@ def test_a_large_marine_engines_masses_are_accepted_and_bounded():
         SceneError, match=r"masses.piston_group = '60 t': must be > 0 kg and <= 50000 kg"
     ):
         scene_from_dict(too_big)
+
+
+def _own_inertia_enough(application: str) -> dict:
+    """The in-line four with a heavy shaft: its own inertia meets [δ] at the rated speed."""
+    return {
+        "engine": {"application": application},
+        "flywheel": {"required_irregularity": 0.2, "engine_inertia": "1 kg*m^2"},
+    }
+
+
+def test_an_outboard_motor_keeps_its_flywheel_magneto_where_delta_needs_none():
+    changes = _own_inertia_enough("outboard")
+    r = shared_run("inline4-petrol", changes, ("flywheel",)).outputs["flywheel"].results
+    assert r["own_inertia_sufficient"]
+    text = _text("inline4-petrol", changes, "en", ("flywheel",))
+    assert "An outboard motor carries a flywheel all the same: the magneto's rotor" in text
+    assert "chosen for starting and idling" in text
+    assert "A vehicle's engine carries a flywheel" not in text
+
+
+def test_an_aircraft_engine_meeting_delta_alone_is_not_told_its_propeller_is_not_needed():
+    changes = _own_inertia_enough("aircraft")
+    text = _text("inline4-petrol", changes, "en", ("flywheel",))
+    assert "even without the propeller; the propeller, whose moment of inertia" in text
+    assert "with the propeller, whose moment of inertia the assignment does not give, δ is" in text
+    assert "none ([δ] is met without the propeller)" in text
+    assert "propeller's moment of inertia is not needed" not in text

@@ -72,7 +72,7 @@ def render(output: StageOutput, ctx) -> str:
     return ctx.render_template(
         "sections/flywheel.html.j2",
         propeller=propeller,
-        vehicle_applications=VEHICLE_APPLICATIONS,
+        flywheel_carriers=FLYWHEEL_CARRIERS,
         vehicle_low_speed=low_speed is not None,
         r=r,
         cylinders=ctx.scene.engine.cylinders,
@@ -295,9 +295,10 @@ def _conclude_rim_too_fast(ctx, r: dict) -> None:
     )
 
 
-#: The engines of vehicles: they carry a flywheel for starting, idling and moving off and for the
-#: clutch, whatever the rated speed's irregularity asks for.
-VEHICLE_APPLICATIONS = ("automotive", "tractor", "motorcycle")
+#: The engines that carry a flywheel whatever the rated speed's irregularity asks for: a vehicle's,
+#: for starting, idling and moving off and for the clutch; an outboard motor's, the magneto's
+#: rotor with the starter's ring gear, for starting and idling (the "outboard" texts).
+FLYWHEEL_CARRIERS = ("automotive", "tractor", "motorcycle", "outboard")
 
 
 def vehicle_low_speed(scene, r: dict) -> dict | None:
@@ -305,7 +306,7 @@ def vehicle_low_speed(scene, r: dict) -> dict | None:
     speed) where a vehicle's flywheel is designed for [δ] at the given speed and δ there exceeds
     [δ]: a vehicle's flywheel is chosen for starting, idling and moving off as well, which the
     section and the conclusions say with that δ; None otherwise."""
-    if scene is None or scene.engine.application not in VEHICLE_APPLICATIONS:
+    if scene is None or scene.engine.application not in FLYWHEEL_CARRIERS:
         return None
     required = r["required_irregularity"]
     if required is None or r.get("own_inertia_sufficient") or r["flywheel_given"]:
@@ -339,7 +340,7 @@ def _conclude_not_needed(ctx, r) -> None:
         )
         + (
             " " + t("flywheel.conclusion_vehicle_flywheel_still")
-            if ctx.scene.engine.application in VEHICLE_APPLICATIONS
+            if ctx.scene.engine.application in FLYWHEEL_CARRIERS
             else ""
         )
         + (

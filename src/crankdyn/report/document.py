@@ -529,7 +529,8 @@ def _meaning_forms(scene) -> tuple[str, ...]:
 def text_variant(scene) -> tuple[str, ...]:
     """The variants of the catalogs' texts for ``scene``'s engine (:class:`Translator`): a
     crosshead engine's side force acts on the crosshead's guides (``"crosshead"``); an
-    aircraft engine's propeller takes the flywheel's part (``"propeller"``); a V, W, Y, X,
+    aircraft engine's propeller takes the flywheel's part (``"propeller"``); an outboard motor's
+    flywheel is the magneto's rotor with the starter's ring gear (``"outboard"``); a V, W, Y, X,
     boxer or radial engine, whose cylinders lie in more than one plane, is balanced by the
     arrangement of its cylinders and cranks, not of its cranks alone (``"banked"``)."""
     variants = []
@@ -537,6 +538,8 @@ def text_variant(scene) -> tuple[str, ...]:
         variants.append("crosshead")  # the side force on the crosshead's guides, its pin A
     if getattr(scene.engine, "application", None) == "aircraft":
         variants.append("propeller")
+    if getattr(scene.engine, "application", None) == "outboard":
+        variants.append("outboard")
     engine = scene.engine
     if getattr(engine, "layout", "inline") != "inline" and getattr(engine, "cylinders", 1) > 1:
         variants.append("banked")
