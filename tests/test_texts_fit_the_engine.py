@@ -263,3 +263,16 @@ def test_an_aircraft_engine_meeting_delta_alone_is_not_told_its_propeller_is_not
     assert "with the propeller, whose moment of inertia the assignment does not give, δ is" in text
     assert "none ([δ] is met without the propeller)" in text
     assert "propeller's moment of inertia is not needed" not in text
+
+
+def test_the_coefficients_table_leaves_out_columns_with_a_dash_in_every_row():
+    """An in-line five cancels the forces of every order: no force has a hodograph, so the
+    hodograph's columns would hold a dash in every row; the moments keep their plane."""
+    five = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+    r = shared_run("inline4-petrol", five, ("balancing",)).outputs["balancing"].results
+    assert all(o["force_coefficient"] < 1e-9 for o in r["orders"])
+    text = _text("inline4-petrol", five, "en", ("balancing",))
+    assert "Plane of the moment from the vertical" in text
+    assert "Major axis from the vertical" not in text
+    # the in-line four's second-order force has its hodograph
+    assert "Major axis from the vertical" in _text("inline4-petrol", None, "en", ("balancing",))

@@ -142,6 +142,9 @@ def coefficients_table(ctx, r):
     columns = _force_columns(ctx, r, single)
     if not one_plane(r):
         columns += _moment_columns(ctx, r)
+    # a column with a dash in every row (the hodographs of forces the crank arrangement cancels
+    # in every order: an in-line five's) says nothing
+    columns = [c for c in columns if not all(isinstance(v, str) and v == "—" for v in c[1])]
     return ctx.table(
         columns,
         caption=t(
