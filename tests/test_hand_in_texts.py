@@ -209,7 +209,7 @@ def test_a_single_cylinder_balancing_section_speaks_of_one_crank_and_no_moments(
     """No bay's axis of symmetry, no crank lag or bank angle, no sum over cylinders, no moment
     columns in the table of orders for one cylinder; an in-line four keeps them."""
     one, four = reports("petrol-1cyl-uk"), reports("inline4-petrol")
-    for words in ("ВМТ першого циліндра до ВМТ", "до суми сил усіх циліндрів", "Площина моменту"):
+    for words in ("ВМТ першого циліндра до ВМТ", "до суми сил усіх циліндрів", "Момент, Н·м"):
         assert words not in one and words in four, words
     assert "Відцентрова сила і сили інерції кожного порядку" in one
 
