@@ -1024,3 +1024,26 @@ def test_the_main_bearing_diagram_is_drawn_in_the_engines_vertical_axes(example,
     np.testing.assert_allclose(bearing, -journal / turn, atol=1e-6 * np.max(np.abs(journal)))
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", shared_html(example, None, "en").linked_html))
     assert ("y along the engine's vertical" in text.replace("&#39;", "'")) is (frame_deg != 0)
+
+
+def test_a_narrow_polar_diagrams_short_tick_labels_stay_upright():
+    """A tall, narrow diagram (a rod bearing's t within ±1.3 MPa, drawn at 19 pt per MPa) has
+    ticks −1, 0, 1: labels of two characters fit 19 pt apart, so they stay upright; ticks
+    −0.5, 0, 0.5 at 9.5 pt apart would not, and are turned."""
+    from crankdyn_builtin.bearings.figures import _fitting_ticks
+
+    from crankdyn.report.figures import new_figure
+
+    def rotation(low, high, per_pt):
+        fig, ax = new_figure(4, 10)
+        _fitting_ticks(ax.xaxis, (low, high), per_pt)
+        ax.set_xlim(low, high)
+        ticks = [v for v in ax.get_xticks() if low <= v <= high]
+        return ticks, ax.xaxis.get_major_ticks()[0].label1.get_rotation()
+
+    ticks, turned = rotation(-1.3, 1.3, 1 / 19)
+    assert [round(v, 6) for v in ticks] == [-1.0, 0.0, 1.0]
+    assert turned == 0
+    ticks, turned = rotation(-0.65, 0.65, 1 / 19)
+    assert [round(v, 6) for v in ticks] == [-0.5, 0.0, 0.5]
+    assert turned == 90

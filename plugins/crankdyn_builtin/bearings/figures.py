@@ -152,8 +152,18 @@ def _fitting_ticks(axis, limits: tuple[float, float], per_pt: float) -> None:
     )
     axis.set_major_locator(locator)
     ticks = [v for v in locator.tick_values(low, high) if low <= v <= high]
-    if len(ticks) >= 2 and (ticks[1] - ticks[0]) / per_pt < TICK_ROOM_PT:
+    if len(ticks) >= 2 and (ticks[1] - ticks[0]) / per_pt < _label_room_pt(ticks):
         axis.set_tick_params(labelrotation=90)
+
+
+#: The width of a digit (or a sign) of a 9 pt tick label and the least gap between two labels, pt.
+DIGIT_PT, LABEL_GAP_PT = 5.0, 7.0
+
+
+def _label_room_pt(ticks) -> float:
+    """The room the widest of these ticks' labels takes along the axis, gap included (pt):
+    "−1" needs far less than :data:`TICK_ROOM_PT`, which is sized for "−0,25"."""
+    return max(len(f"{round(v, 6):g}") for v in ticks) * DIGIT_PT + LABEL_GAP_PT
 
 
 def _angle_labels(ax, translator, curve_tz, angle, every, span, per_pt, journal) -> None:
