@@ -1030,9 +1030,8 @@ def test_a_narrow_polar_diagrams_short_tick_labels_stay_upright():
     """A tall, narrow diagram (a rod bearing's t within ±1.3 MPa, drawn at 19 pt per MPa) has
     ticks −1, 0, 1: labels of two characters fit 19 pt apart, so they stay upright; ticks
     −0.5, 0, 0.5 at 9.5 pt apart would not, and are turned."""
-    from crankdyn_builtin.bearings.figures import _fitting_ticks
-
     from crankdyn.report.figures import new_figure
+    from crankdyn_builtin.bearings.figures import _fitting_ticks
 
     def rotation(low, high, per_pt):
         fig, ax = new_figure(4, 10)
