@@ -2902,9 +2902,9 @@ def _title_mm(aspect: float) -> float:
 
 def positions_layout(geometry, count: int) -> tuple[int, int]:
     """(panels in a row, panels on one figure) of the positions figure: two in a row, each half the
-    text width when a panel is about as high as wide (a radial, a V), as high as the page's
-    figure height allows when it is tall (a cylinder above its crank); as many rows as that
-    height holds."""
+    text width (less for a mechanism so tall that half the text width would make a panel higher
+    than a figure may be), as high as the mechanism at its standard scale; as many rows as the
+    figure's height holds."""
     (x0, x1), (y0, y1) = _panel_limits(_panel_geometry(geometry))
     aspect = (y1 - y0) / (x1 - x0)
     cols = max(min(count, 2), 1)
@@ -2923,12 +2923,14 @@ def _panel_limits(geometry):
     """A positions panel's limits (:func:`_panel_geometry`): room for the cylinders' numbers
     only (no dimension lines), else for the cylinder's axis past its liner; a narrow margin
     above and below, where only a joint's circle reaches past the limits' points; widened about
-    their middle to the panel's standard scale (:func:`positions_scale`)."""
+    their middle to the panel's width at its standard scale (:func:`positions_scale`)."""
     (x0, x1), (y0, y1) = _content_limits(geometry)
     aspect = (y1 - y0) / (x1 - x0)
     scale = _panel_scale(geometry)
     width = _panel_width_mm(aspect) / scale
-    height = width * aspect
+    # only as high as the drawing at that scale: a standard scale smaller than the one that
+    # fills the panel would leave bands of paper above and below the mechanism
+    height = y1 - y0
     xm, ym = (x0 + x1) / 2, (y0 + y1) / 2
     return (xm - width / 2, xm + width / 2), (ym - height / 2, ym + height / 2)
 
