@@ -276,3 +276,13 @@ def test_the_coefficients_table_leaves_out_columns_with_a_dash_in_every_row():
     assert "Major axis from the vertical" not in text
     # the in-line four's second-order force has its hodograph
     assert "Major axis from the vertical" in _text("inline4-petrol", None, "en", ("balancing",))
+
+
+def test_the_forces_summed_on_a_single_crank_are_each_cylinders_own():
+    """A radial's cylinders all act on its one crank: z_i and t_i of the sum are the cylinders'
+    own forces, not the i-th crank's sum of its cylinders (a V8's bank of two on each pin)."""
+    radial = _text("radial9-aircraft", None, "en", ("torque",))
+    assert "specific radial force of cylinder i at its own cycle angle" in radial
+    assert "on crank i (the sum over its cylinders" not in radial
+    v8 = _text("v8-petrol", None, "en", ("torque",))
+    assert "on crank i (the sum over its cylinders" in v8

@@ -511,13 +511,16 @@ def _meaning_forms(scene) -> tuple[str, ...]:
         forms.append("crosshead")  # the side force on the crosshead's guides, its moving parts
     if scene.engine.layout in ("V", "W", "Y", "X", "boxer"):
         forms.append("vertical")  # an engine frame along the banks' axis of symmetry
+    one_crank = _cranks(scene) == 1
     if scene.engine.cylinders == 1:
         forms.append("single")
-    elif _cylinders_share_pins(scene):
+    elif one_crank:  # before a bank's: z_i of cylinders on one crank is each cylinder's own
+        forms.append("one_crank")
+    if scene.engine.cylinders > 1 and _cylinders_share_pins(scene):
         forms.append("bank")
-    elif scene.engine.layout == "boxer":
+    elif scene.engine.cylinders > 1 and scene.engine.layout == "boxer":
         forms.append("boxer")
-    if _cranks(scene) == 1:
+    if one_crank and "one_crank" not in forms:
         forms.append("one_crank")
     if scene.engine.layout in ("W", "Y", "X"):
         forms.append("banks")  # the bank angle lies between adjacent banks of three or four
