@@ -318,7 +318,7 @@ def test_the_crank_load_conclusion_says_it_leaves_out_the_counterweights(stages,
     there are none to leave out."""
     text = _text(shared_html("v8-petrol", None, "en", stages).linked_html)
     assert ("without the crankshaft's counterweights" in text.replace("&#39;", "'")) is fitted
-    assert "The largest resultant load on the crank from all its cylinders" in text
+    assert "The largest specific resultant load on the crank from all its cylinders" in text
 
 
 @pytest.mark.parametrize(
@@ -347,5 +347,5 @@ def test_a_singles_crank_load_conclusion_says_it_leaves_out_the_counterweights(s
     """A single's largest crank load q is the crank's own: with the balancing's counterweights
     fitted the conclusion says they are not in it."""
     text = _text(shared_html("petrol-1cyl", None, "en", stages).linked_html)
-    assert "The largest resultant load on the crank" in text
+    assert "The largest specific resultant load on the crank" in text
     assert ("rotating masses, without the counterweights;" in text) is fitted

@@ -228,7 +228,7 @@ def test_the_conclusions_give_the_crank_load_of_all_its_cylinders():
     peak = int(np.argmax(q))
     said = _plain(_part("radial", '<ol class="conclusions">'))
     found = re.search(
-        r"Наибольшая результирующая нагрузка на колено от всех его цилиндров \([^)]*\) "
+        r"Наибольшая удельная результирующая нагрузка на колено от всех его цилиндров \([^)]*\) "
         r"q = ([\d,]+) МПа при α = (\d+)° \(табл\. 7\.2\)",
         said,
     )
