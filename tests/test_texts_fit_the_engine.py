@@ -163,7 +163,7 @@ def test_a_crosshead_engines_side_force_acts_on_the_guides():
     crosshead = {"engine": {"crosshead": True}}
     text = _text("diesel-1cyl", crosshead, "en")
     assert "specific side force pressing the crosshead's slide against its guides" in text
-    assert "the side force on the crosshead's guides largest in magnitude is N" in text
+    assert "the specific side force on the crosshead's guides largest in magnitude is N" in text
     assert "Mass of the reciprocating parts (piston, piston rod and crosshead)" in text
     assert "A the crosshead pin axis" in text
     assert "cylinder wall" not in text and "piston pin" not in text
@@ -286,3 +286,24 @@ def test_the_forces_summed_on_a_single_crank_are_each_cylinders_own():
     assert "on crank i (the sum over its cylinders" not in radial
     v8 = _text("v8-petrol", None, "en", ("torque",))
     assert "on crank i (the sum over its cylinders" in v8
+
+
+def test_moments_that_repeat_the_first_orders_star_are_explained():
+    """An in-line five's cranks 72° apart: 4·72° ≡ −72° and 6·72° ≡ 72° (mod 360°), so ΣM_IV and
+    ΣM_VI have ΣM_I's coefficient; an in-line three's 2·120° ≡ −120°, 4·120° ≡ 120°. The
+    coefficients agree in the table, and the note says why."""
+    five = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+    r = shared_run("inline4-petrol", five, ("balancing",)).outputs["balancing"].results
+    assert r["first_star_repeats"] == [{"order": 4, "sign": -1}, {"order": 6, "sign": 1}]
+    by_order = {o["order"]: o["moment_coefficient"] for o in r["orders"]}
+    assert by_order[4] == pytest.approx(by_order[1], rel=1e-9)
+    assert by_order[6] == pytest.approx(by_order[1], rel=1e-9)
+    assert by_order[1] == pytest.approx(0.4490, abs=5e-5)  # the textbook's in-line five
+    text = _text("inline4-petrol", five, "en", ("balancing",))
+    assert "The moments Σ M IV and Σ M VI have the first order's coefficient" in text
+    assert "4 ξ i ≡ − ξ i and 6 ξ i ≡ ξ i (mod 360°)" in text
+    three = shared_run("inline3-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert three["first_star_repeats"] == [{"order": 2, "sign": -1}, {"order": 4, "sign": 1}]
+    # an in-line four has no first-order moment: nothing to repeat
+    four = shared_run("inline4-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert four["first_star_repeats"] == []

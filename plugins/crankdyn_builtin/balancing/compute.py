@@ -44,6 +44,7 @@ from .vectors import (
     NEGLIGIBLE,
     _fitted,
     bay_model_of,
+    first_star_repeats,
     order_vectors,
     time_domain_check,
 )
@@ -531,7 +532,7 @@ def run(scene, inputs) -> StageOutput:
         "first_order_backward": opts.first_order_backward,
         #: the rotating parts the scene chose to leave (records as ``parts_left``'s)
         "parts_left_chosen": _parts_left_results(g, masses, harmonics, chosen, a),
-        **_geometry_results(g),
+        **_geometry_results(g, orders),
         "rod_type": e.rod_type,
         "rod_offset_couples": _rod_offset_couples(scene, opts, layout, g, masses, harmonics),
         **_internal_moment(g, C, a, summary),
@@ -728,9 +729,11 @@ def _masses_results(masses, harmonics, all_orders, offset_ratio: float, rod_rati
     }
 
 
-def _geometry_results(g) -> dict:
-    """The geometry of the diagrams: crank directions, cylinder axes and phases, labels, bays."""
+def _geometry_results(g, orders) -> dict:
+    """The geometry of the diagrams: crank directions, cylinder axes and phases, labels, bays;
+    the orders whose moments repeat the first order's star (:func:`_first_star_repeats`)."""
     return {
+        "first_star_repeats": _first_star_repeats(g, orders),
         "crank_directions_deg": [math.degrees(x) % 360.0 for x in g.crank_direction_rad],
         "cylinder_axes_deg": [math.degrees(x) for x in g.cylinder_axis_rad],
         "cylinder_phases_deg": [math.degrees(x) % 360.0 for x in g.cylinder_phase_rad],
@@ -782,6 +785,29 @@ def _firing_order_results(scene, layout, opts) -> dict:
     if opts.explore:
         out["explorer"] = _explore(scene.engine, layout, opts.explore_top)
     return out
+
+
+def _first_star_repeats(g, orders) -> list[dict]:
+    """[{order, sign}] of an in-line engine's orders (the second and higher) whose moment is not
+    nil and whose star of phases repeats (+1) or mirrors (−1) the first order's, when the
+    first order's moment is not nil either (:func:`.vectors.first_star_repeats`)."""
+    by_order = {int(o["order"]): o for o in orders}
+    cylinders = len(g.labels)
+    first = by_order.get(1)
+    if (
+        cylinders < 3
+        or np.any(np.abs(np.asarray(g.cylinder_axis_rad)) > 1e-12)
+        or first is None
+        or first["moment_coefficient"] <= NEGLIGIBLE * cylinders
+    ):
+        return []
+    higher = [
+        n
+        for n, o in by_order.items()
+        if n >= 2 and o["moment_coefficient"] > NEGLIGIBLE * cylinders
+    ]
+    repeats = first_star_repeats(np.degrees(np.asarray(g.cylinder_phase_rad)), higher)
+    return [{"order": n, "sign": sign} for n, sign in sorted(repeats.items())]
 
 
 def _explore(e, layout, top: int) -> dict:

@@ -760,6 +760,29 @@ def _second_order_left(t, r) -> str:
 _PLANE_TOLERANCE_DEG = 0.05
 
 
+def same_star_sentence(t, r) -> str:
+    """Why an in-line engine's moments of higher orders have the first order's coefficient (an
+    in-line five's ΣM_IV and ΣM_VI, a three's ΣM_II): with its cranks νξ_i repeats ξ_i or −ξ_i
+    (mod 360°) at every cylinder (results key ``first_star_repeats``). "" where no order whose
+    moment is not nil does."""
+    sign = {item["order"]: item["sign"] for item in r.get("first_star_repeats") or ()}
+    items = [
+        (
+            plain_symbol({"quantity": "M_" + o["name"]}),
+            f"{int(o['order'])}\u202fξ_i ≡ {'' if sign[int(o['order'])] > 0 else '−'}ξ_i",
+        )
+        for o in r["orders"]
+        if int(o["order"]) in sign
+    ]
+    if not items:
+        return ""
+    return t(
+        "balancing.same_star" + ("_one" if len(items) == 1 else ""),
+        moments=t.join_and([symbol for symbol, _ in items]),
+        congruences=t.join_and([congruence for _, congruence in items]),
+    )
+
+
 def free_motion_sentence(t, r, kind: str) -> str:
     """How the engine's free forces (``kind="force"``) or moments (``"moment"``) act, in words:
     those of the coefficients table that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I, a
@@ -884,7 +907,11 @@ def render(output: StageOutput, ctx) -> str | None:
         offset_shown=bool(offset_couples(r)),
         shaft_beside=shaft_beside_sentence(ctx.t, r),
         free_motion=" ".join(
-            filter(None, (free_motion_sentence(ctx.t, r, kind) for kind in ("force", "moment")))
+            filter(
+                None,
+                [free_motion_sentence(ctx.t, r, kind) for kind in ("force", "moment")]
+                + [same_star_sentence(ctx.t, r)],
+            )
         ),
         master_mass=master_mass(ctx.t, r),  # plain text: the equation's markup is the template's
         masses_where=ctx.t(

@@ -27,6 +27,22 @@ NEGLIGIBLE = 1e-9  # a coefficient below this counts as balanced
 ROUND_OFF = 1e-12  # relative size below which a computed value is round-off and shown as 0
 
 
+def first_star_repeats(phases_deg: Sequence[float], orders: Sequence[int]) -> dict[int, int]:
+    """{order ν: +1 or −1} of the orders whose star of cylinder phases repeats the first order's
+    (νξ_i ≡ ξ_i, mod 360°, at every cylinder) or mirrors it (νξ_i ≡ −ξ_i): with the cylinders in
+    one plane and the same arms, such an order's moment coefficient is the first order's (an
+    in-line five's orders IV and VI, an in-line three's II)."""
+    first = np.exp(1j * np.radians(np.asarray(phases_deg, dtype=float)))
+    repeats = {}
+    for order in orders:
+        star = first**order
+        for sign in (1, -1):
+            if np.allclose(star, first if sign > 0 else np.conj(first), rtol=0, atol=1e-9):
+                repeats[int(order)] = sign
+                break
+    return repeats
+
+
 def _c(value, scale: float = 1.0) -> complex:
     """A complex amplitude with round-off (below ROUND_OFF * scale) set to zero, part by part."""
     value = complex(value)
