@@ -90,7 +90,7 @@ def test_the_worked_lines_substitute_si_numbers_and_the_list_says_so():
     pressure = next(w for w in worked if w.startswith("pmax = Qmax/(d B)"))
     pressure = pressure.replace("\u00a0", " ").replace("\u202f", " ")
     assert re.search(r"·103/\([\d,]+·10−3·[\d,]+·10−3\)·10−6 = [\d,]+ МПа$", pressure), pressure
-    assert "одиниці СІ (у підстановках із числами довжини подано в метрах" in html
+    assert "У формули величини підставляють в одиницях СІ (довжини – у метрах" in html
     where = {(_text(m.group(1)).split(" – ")[0]): _text(m.group(1)) for m in _WHERE.finditer(html)}
     assert (
         where["sп"].endswith(", м.")
