@@ -742,11 +742,6 @@ def _geometry_results(g, orders) -> dict:
     }
 
 
-#: The crank arrangements past which a given firing order is not compared with the best one
-#: (the search the scene's default firing order is taken from stops there too).
-MAX_COMPARED_ARRANGEMENTS = 50_000
-
-
 def better_firing_order(scene, layout) -> dict:
     """``{"better_firing": ...}``: the best-balanced even-firing order of the engine, when the
     scene's own order leaves a force or moment that it does not
@@ -756,7 +751,7 @@ def better_firing_order(scene, layout) -> dict:
     e = scene.engine
     if scene.firing_order_chosen or not layout.even_firing or e.layout == "radial":
         return {}
-    if math.factorial(max(layout.cranks - 1, 0)) > MAX_COMPARED_ARRANGEMENTS:
+    if not fe.small_search(layout.cranks):
         return {}
     found = fe.better_balanced(
         e.cylinders,

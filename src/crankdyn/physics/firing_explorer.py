@@ -50,6 +50,15 @@ _TIER_TOL = 1e-7
 #: Firing orders one exploration ranks and lists at most (``top``, or every one): an in-line 9
 #: has 40 320; an in-line 10 (362 880) or a W24 (21 934 080) listed in full would take gigabytes.
 MAX_RANKED_ORDERS = 50_000
+#: Crank arrangements ((cranks − 1)! of them, crank 1 fixed) up to which a search runs with every
+#: report: a scene's default firing order is taken from it, a given one compared with its best.
+MAX_SEARCHED_ARRANGEMENTS = 50_000
+
+
+def small_search(cranks: int) -> bool:
+    """Whether the arrangements of ``cranks`` cranks are few enough to search with every report
+    (:data:`MAX_SEARCHED_ARRANGEMENTS`; an in-line nine's 40 320 are, a ten's 362 880 not)."""
+    return math.factorial(max(cranks - 1, 0)) <= MAX_SEARCHED_ARRANGEMENTS
 
 
 class TooManyFiringOrders(ValueError):

@@ -584,7 +584,7 @@ class Scene(_Strict):
 
         banks = lay.LAYOUT_BANKS.get(e.layout, 1)
         cranks = e.cylinders // banks if e.cylinders % banks == 0 else e.cylinders
-        if math.factorial(max(cranks - 1, 0)) > 50_000:
+        if not fe.small_search(cranks):
             return
 
         given = e.crank_angles_deg  # a given crank arrangement: the best order that fits it
