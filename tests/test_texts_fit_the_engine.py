@@ -307,3 +307,15 @@ def test_moments_that_repeat_the_first_orders_star_are_explained():
     # an in-line four has no first-order moment: nothing to repeat
     four = shared_run("inline4-petrol", None, ("balancing",)).outputs["balancing"].results
     assert four["first_star_repeats"] == []
+
+
+def test_the_radii_of_means_the_calculation_takes_are_in_the_table_of_values_taken():
+    """The single cylinder's counterweights at R and its balance shaft at R/2, neither radius
+    given: both in the table of the values taken (R = 39 mm); a given radius is not."""
+    text = _text("petrol-1cyl", None, "en", ("balancing",))
+    taken = text[text.index("Values taken in the calculation") :]
+    assert "Radius of the counterweights' centre of mass 39 mm" in taken
+    assert "Radius of the balance-shaft masses' centre of mass 19.5 mm" in taken
+    given = {"balancing": {"counterweight_radius": "45 mm"}}
+    taken = _text("petrol-1cyl", given, "en", ("balancing",))
+    assert "Radius of the counterweights' centre of mass 39 mm" not in taken

@@ -22,7 +22,7 @@ from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresent
 from .compute import applies, better_firing, failed_check, rod_offset_against_pin, run
 from .notation import SYMBOLS
 from .options import BalancingOptions
-from .section import input_rows, render
+from .section import input_rows, render, taken_rows
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -66,6 +66,7 @@ BALANCING_STAGE = Stage(
         title_key="balancing.title",
         render=render,
         input_rows=input_rows,
+        taken_rows=taken_rows,
         figures=("crank_diagrams", "vector_models"),
         symbols=SYMBOLS,
         references=("poda2007", "lukanin1995", "taylor1985"),

@@ -945,6 +945,25 @@ def _rank_tied_with_first(explorer) -> bool:
     )
 
 
+def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The radii of the means' masses the calculation takes where it fits means whose radius the
+    scene does not give: the counterweights' at R, the balance shafts' at R/2."""
+    opts = options(scene, "balancing", BalancingOptions)
+    fitted = ctx.data(COUNTERWEIGHTS)
+    if fitted is None:
+        return []
+    t, mm = ctx.t, ctx.t("unit.mm")
+    radius_mm = scene.engine.crank_radius_m * 1e3
+    rows = []
+    if fitted.fitted and opts.counterweight_radius is None:
+        rows.append((t("balancing.input_counterweight_radius"), "", t.number_g(radius_mm, 4), mm))
+    if fitted.balance_shafts and opts.balance_shaft_radius is None:
+        one = "_one" if fitted.balance_shafts == 1 else ""
+        label = t("balancing.input_balance_shaft_radius" + one)
+        rows.append((label, "", t.number_g(radius_mm / 2, 4), mm))
+    return rows
+
+
 def input_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
     """The [balancing] table's given sizes for the report's table of the task's data: the radii
     of the counterweights' and balance-shaft masses' centres and the rods' offset along the pin,
