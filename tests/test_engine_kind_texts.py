@@ -102,9 +102,11 @@ def test_the_ignition_delay_time_is_not_the_number_of_strokes():
     html = shared_html("diesel-1cyl", None, "uk").linked_html
     rows = _symbol_rows(html)
     assert "<i>τ</i>" in rows and "<i>τ</i><sub>з</sub>" in rows, rows
-    # the example gives τ_з: "6·n·τ_з [1, …] за заданого τ_з = 1,2 мс"
+    # the example gives τ_з: "6·n·τ_з = 6·…·0,0012 = …° [1, …] за заданого τ_з = 1,2 мс"
     assert re.search(
-        r"6·<i>n</i>·<i>τ</i><sub>з</sub> [^<]* за заданого <i>τ</i><sub>з</sub>\s=\s\d", html
+        r"6·<i>n</i>·<i>τ</i><sub>з</sub>\s=\s6·[\d\s\u202f]+·0,0012\s=\s[\d,]+° "
+        r"[^<]* за заданого <i>τ</i><sub>з</sub>\s=\s\d",
+        html,
     )
     assert not re.search(r"<i>τ</i>\s=\s\d", html)
 

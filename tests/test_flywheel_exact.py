@@ -320,3 +320,18 @@ def test_the_balance_shafts_sentence_counts_them(balance_orders, said):
     page = shared_html("petrol-1cyl", changes, "en", ("balancing", "flywheel")).linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", "", page))
     assert f"The balance {said} in section" in text
+
+
+def test_a_raised_flywheels_energy_method_value_has_its_own_symbol_and_a_rim_only_when_sized():
+    """The energy method's flywheel, raised by the exact solution, is J′_f in its formula (J_f is
+    the adopted one, as the table has it); without a rim no rim is said to be sized for it."""
+    from conftest import shared_html
+
+    html = shared_html("diesel-1cyl", RAISED, "en", STAGES).linked_html
+    assert "<i>J</i>′<sub>f</sub> = <i>J</i><sub>0</sub> − <i>J</i><sub>m</sub>" in html
+    assert "the flywheel has to supply" in html and "by the energy method" in html
+    assert "the rim is sized for this value" in html
+    no_rim = {"flywheel": {"required_irregularity": 0.05}}
+    plain = _text(shared_html("diesel-1cyl", no_rim, "en", STAGES).linked_html)
+    assert "moment of inertia is therefore raised by" in plain
+    assert "the rim is sized for this value" not in plain

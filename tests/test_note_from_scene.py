@@ -460,12 +460,13 @@ def test_a_given_ignition_delay_is_not_said_to_be_taken_from_the_textbook():
     """τ_i given in the task's data (the example's 1.2 ms): the rounding says 6·n·τ_i with the
     given τ_i; left out, it is the textbook's 1.5 ms, taken."""
     given = _text(shared_html("diesel-1cyl", None, "en", ("indicator",)).linked_html)
-    assert "[1, §3.1] with the given τ i = 1.2 ms." in given
+    assert "[1, §3.1] with the given τ i = 1.2 ms (in seconds in the product)." in given
     assert "The ignition delay follows the textbook" not in given
     left_out = {"cycle": {"rounding": {"combustion_delay_time": None}}}
     taken = _text(shared_html("diesel-1cyl", left_out, "en", ("indicator",)).linked_html)
     assert "The ignition delay follows the textbook [1, §3.1]" in taken
-    assert "with τ i = 1.5 ms." in taken and "the given τ" not in taken
+    assert "with τ i = 1.5 ms (in seconds in the product)." in taken
+    assert "the given τ" not in taken
 
 
 def test_a_boxer_twins_cylinders_lie_left_and_right_not_in_banks():

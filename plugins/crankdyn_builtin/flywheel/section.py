@@ -86,6 +86,10 @@ def render(output: StageOutput, ctx) -> str:
         density_given="rim_density" in opts.model_fields_set,
         material=rim_material(rim["density_kg_m3"]) if rim else None,
         raised=raised_params(ctx, r) if r.get("flywheel_raised") else None,
+        # J_f names the adopted flywheel: the energy method's, raised by the exact solution, is J′_f
+        flywheel_symbol=symbol_html("flywheel.energy_flywheel_inertia", t.language, ctx.symbols)
+        if r.get("flywheel_raised")
+        else "<i>J</i><sub>f</sub>",
         # the energy method found no flywheel needed (the exact solution may still raise one)
         energy_needs_none=r["required_irregularity"] is not None and _energy_needs_none(r),
     )
