@@ -143,9 +143,12 @@ def test_only_the_master_rod_is_said_to_bear_on_the_crank_pin():
     assert "шатуны: главный и прицепные." in text
 
 
-def test_the_slave_pin_taken_as_zero_is_said_and_listed_with_the_given_data():
+def test_the_slave_pin_taken_as_zero_is_said_and_listed_with_the_values_taken():
     text = v12_text()
-    assert "Масса пальца прицепного шатуна (не задана, принята равной нулю)" in text
+    taken = text[text.index("Принятые величины") :]
+    assert "Масса пальца прицепного шатуна" in taken[: taken.index("Кинематика")]
+    given_table = text[: text.index("Принятые величины")]
+    assert "Масса пальца прицепного шатуна" not in given_table.split("Исходные данные")[-1]
     assert "Масса пальца прицепного шатуна в задании не указана и принята равной нулю" in text
     given = {**V12, "articulated": {**V12["articulated"], "slave_pin": "0.7 kg"}}
     run = run_scene(scene_from_dict(given, base_dir=examples_dir()), default_registry(), ["bays"])

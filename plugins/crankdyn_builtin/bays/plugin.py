@@ -21,7 +21,7 @@ from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, Stage, StagePresentation
 
 from .compute import ARTICULATED, applies, run
-from .section import SYMBOLS, input_rows, render
+from .section import SYMBOLS, input_rows, render, taken_rows
 
 #: This plugin's own section templates (``templates/sections/<stage>.html.j2``).
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -51,6 +51,7 @@ BAYS_STAGE = Stage(
         title_key="bays.title",
         render=render,
         input_rows=input_rows,
+        taken_rows=taken_rows,
         figures=("plan", "bay"),
         references=("poda2007", "kolchin2002"),
         symbols=SYMBOLS,

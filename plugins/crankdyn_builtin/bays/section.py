@@ -3,14 +3,16 @@ table, and the articulated rods' own letters."""
 
 from __future__ import annotations
 
+import math
 from functools import partial
 
 import numpy as np
 from markupsafe import Markup, escape
 
+from crankdyn.errors import SceneError
 from crankdyn.physics.extrema import first_argmax, first_extremum_index
 from crankdyn.plugin.contracts import ArticulatedOptions
-from crankdyn.plugin.scene_inputs import power_take_off
+from crankdyn.plugin.scene_inputs import engine_layout, power_take_off, slave_geometries
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import add_extreme_rows, exact_decimals, sample_rows
 from crankdyn.scene import options
@@ -524,7 +526,39 @@ def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
                 "",
             )
         )
-    # the pin's mass enters m_R: a pin not given is shown as the zero the calculation takes
-    pin_name = "bays.input_slave_pin" if "slave_pin" in given else "bays.input_slave_pin_zero"
-    rows.append((t(pin_name), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg))
+    if "slave_pin" in given:
+        rows.append(
+            (t("bays.input_slave_pin"), "<i>m</i><sub>sp</sub>", num(opts.slave_pin, 4), kg)
+        )
+    return rows
+
+
+def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
+    """The articulated rods' values the calculation takes where the scene gives none, for the
+    table of the values taken: the knuckle pins' angles γ_1 (each slave cylinder's axis angle),
+    the slave rods' lengths (for equal compression ratios, or the textbook's L − r), the slave
+    rod's centre of mass and a knuckle pin of no mass (it enters m_R)."""
+    if scene.engine.rod_type != "articulated":
+        return []
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    given = opts.model_fields_set
+    try:
+        slaves = slave_geometries(scene, engine_layout(scene), opts, ARTICULATED)
+    except SceneError:  # refused where the stages run, with its own message
+        return []
+    t, num = ctx.t, ctx.t.number_g
+    rows = []
+    if opts.pin_angle_deg is None and opts.pin_angles_deg is None:
+        angles = "; ".join(num(math.degrees(g.pin_angle_rad), 4) for _, g in slaves)
+        rows.append((t("bays.input_pin_angle"), "<i>γ</i><sub>1</sub>", angles, "°"))
+    if opts.slave_rod_length is None:
+        lengths = "; ".join(num(g.slave_rod_length_m * 1e3, 5) for _, g in slaves)
+        rows.append(
+            (t("bays.input_slave_rod_length"), "<i>l</i><sub>sr</sub>", lengths, t("unit.mm"))
+        )
+    if "slave_rod_cm_fraction" not in given:
+        fraction = num(opts.slave_rod_cm_fraction, 4)
+        rows.append((t("bays.input_slave_rod_cm"), "<i>κ</i><sub>s</sub>", fraction, ""))
+    if "slave_pin" not in given:
+        rows.append((t("bays.input_slave_pin"), "<i>m</i><sub>sp</sub>", num(0.0), t("unit.kg")))
     return rows
