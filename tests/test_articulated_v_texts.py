@@ -342,3 +342,14 @@ def test_the_given_data_name_the_master_rods_mass():
     text = v12_text()
     assert "Масса главного шатуна" in text and "Масса шатуна" not in text
     assert "до центра масс главного шатуна" in text
+
+
+def test_one_slave_rod_on_a_pin_is_named_in_the_singular_and_its_master_bearing_carries_both():
+    """A V12's pin carries one master and one slave rod: the master rod's rotating part takes the
+    share of the slave rod and its pin (singular), and Q of a big-end bearing is the pin's whole
+    load (the master rod's bearing carries the slave rod's force), not one rod's own."""
+    text = v12_text()
+    assert "вместе с долей прицепного шатуна и его пальца" in text
+    assert "долями прицепных шатунов и их пальцев" not in text
+    assert "для шатунного подшипника – сила только его шатуна" not in text
+    assert "наибольшая за цикл сила, нагружающая шатунную шейку" in text

@@ -505,7 +505,8 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     a shaft of one crank ("without its crank's mass", not "its cranks' masses"), a W, Y or X
     engine's (its bank angle between adjacent banks), an aircraft engine's (its propeller's
     inertia where another engine has a flywheel's), an engine with banks (its frame along the
-    banks' axis of symmetry); a crosshead engine's first (its side force on the guides)."""
+    banks' axis of symmetry); a crosshead engine's first (its side force on the guides);
+    articulated rods' before a bank's (the master rod's bearing carries all the rods' forces)."""
     forms = []
     if getattr(scene.engine, "crosshead", False):
         forms.append("crosshead")  # the side force on the crosshead's guides, its moving parts
@@ -516,6 +517,10 @@ def _meaning_forms(scene) -> tuple[str, ...]:
         forms.append("single")
     elif one_crank:  # before a bank's: z_i of cylinders on one crank is each cylinder's own
         forms.append("one_crank")
+    if getattr(scene.engine, "rod_type", "central") == "articulated":
+        if _cranks(scene) == scene.engine.cylinders / 2:
+            forms.append("one_slave")  # a V's pin: one slave rod beside the master (singular)
+        forms.append("articulated")  # the master rod's bearing carries the slave rods' forces too
     if scene.engine.cylinders > 1 and _cylinders_share_pins(scene):
         forms.append("bank")
     elif scene.engine.cylinders > 1 and scene.engine.layout == "boxer":
