@@ -353,3 +353,13 @@ def test_one_slave_rod_on_a_pin_is_named_in_the_singular_and_its_master_bearing_
     assert "долями прицепных шатунов и их пальцев" not in text
     assert "для шатунного подшипника – сила только его шатуна" not in text
     assert "наибольшая за цикл сила, нагружающая шатунную шейку" in text
+
+
+def test_a_torque_period_longer_than_the_firing_interval_is_explained():
+    """Twelve cylinders fire every 60°, but the torque repeats every 120°: the slave cylinders
+    differ from the master ones, and the note says so."""
+    r = v12_run().outputs["torque"].results
+    assert r["period_deg"] == pytest.approx(2 * r["period_even_firing_deg"])
+    text = v12_text()
+    assert "Крутящий момент повторяется через 120°, а не через 60°" in text
+    assert "прицепные цилиндры отличаются от главных" in text
