@@ -361,5 +361,5 @@ def test_a_torque_period_longer_than_the_firing_interval_is_explained():
     r = v12_run().outputs["torque"].results
     assert r["period_deg"] == pytest.approx(2 * r["period_even_firing_deg"])
     text = v12_text()
-    assert "Крутящий момент повторяется через 120°, а не через 60°" in text
+    assert "Период крутящего момента – 120°, а не 60°" in text
     assert "прицепные цилиндры отличаются от главных" in text
