@@ -21,6 +21,9 @@ def _text(name, changes=None, language="en", stages=None) -> str:
     return " ".join(plain.replace("\xa0", " ").split())
 
 
+#: The bundled in-line four's data as an in-line five, cranks 72° apart (firing 1-2-4-5-3).
+INLINE_FIVE = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+
 #: The petrol single with an intake above its exhaust pressure (a supercharged engine).
 BOOSTED = {"cycle": {"intake_pressure": "0.15 MPa", "exhaust_pressure": "0.12 MPa"}}
 
@@ -268,7 +271,7 @@ def test_an_aircraft_engine_meeting_delta_alone_is_not_told_its_propeller_is_not
 def test_the_coefficients_table_leaves_out_columns_with_a_dash_in_every_row():
     """An in-line five cancels the forces of every order: no force has a hodograph, so the
     hodograph's columns would hold a dash in every row; the moments keep their plane."""
-    five = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+    five = INLINE_FIVE
     r = shared_run("inline4-petrol", five, ("balancing",)).outputs["balancing"].results
     assert all(o["force_coefficient"] < 1e-9 for o in r["orders"])
     text = _text("inline4-petrol", five, "en", ("balancing",))
@@ -292,7 +295,7 @@ def test_moments_that_repeat_the_first_orders_star_are_explained():
     """An in-line five's cranks 72° apart: 4·72° ≡ −72° and 6·72° ≡ 72° (mod 360°), so ΣM_IV and
     ΣM_VI have ΣM_I's coefficient; an in-line three's 2·120° ≡ −120°, 4·120° ≡ 120°. The
     coefficients agree in the table, and the note says why."""
-    five = {"engine": {"cylinders": 5, "firing_order": [1, 2, 4, 5, 3]}}
+    five = INLINE_FIVE
     r = shared_run("inline4-petrol", five, ("balancing",)).outputs["balancing"].results
     assert r["first_star_repeats"] == [{"order": 4, "sign": -1}, {"order": 6, "sign": 1}]
     by_order = {o["order"]: o["moment_coefficient"] for o in r["orders"]}

@@ -38,6 +38,7 @@ from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
 from .means import add_shaft_loads, means_records, remedy_summary, residual_after_means
+from .notation import plain_symbol
 from .options import LEAVE_SHARE, BalancingOptions, balance_orders_for
 from .vectors import (
     CHECK_SAMPLES,
@@ -208,17 +209,6 @@ def failed_check(scene, results=None) -> list[tuple[str, dict]]:
     ]
 
 
-#: The balance table's name of each coefficient of the firing-order explorer.
-_FREED_SYMBOLS = {
-    "sum_C": "ΣC",
-    "M_C": "ΣM_C",
-    "sum_PI": "ΣP_I",
-    "M_PI": "ΣM_I",
-    "sum_PII": "ΣP_II",
-    "M_PII": "ΣM_II",
-}
-
-
 def better_firing(scene, results=None) -> list[tuple[str, dict]]:
     """A given firing order that leaves a force or moment another even-firing order of the same
     engine does not (:func:`better_firing_order`): most often an order written in another
@@ -235,7 +225,8 @@ def better_firing(scene, results=None) -> list[tuple[str, dict]]:
                 "cranks": "; ".join(f"{x:g}" for x in layout.crank_lag_deg),
                 "better": "–".join(better["firing_order"]),
                 "better_cranks": "; ".join(f"{x:g}" for x in better["crank_angles_deg"]),
-                "freed": ", ".join(_FREED_SYMBOLS[k] for k in better["freed"]),
+                # the explorer's keys are the summary's quantities: named as table 6.3 names them
+                "freed": ", ".join(plain_symbol({"quantity": k}) for k in better["freed"]),
             },
         )
     ]
