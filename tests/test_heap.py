@@ -77,6 +77,21 @@ def test_the_collector_is_paused_within_and_as_it_was_after():
         gc.enable()
 
 
+def test_what_a_paused_block_made_inside_a_report_is_frozen_as_it_ends():
+    """An import makes objects that live as long as the report: frozen as the block ends, the
+    first pass after it does not walk them; outside a report nothing is frozen."""
+    with collector_paused():
+        outside = [[] for _ in range(1000)]  # noqa: F841 - alive after the block
+    assert gc.get_freeze_count() == 0
+    with frozen_heap():
+        before = gc.get_freeze_count()
+        with collector_paused():
+            made = [[] for _ in range(1000)]  # noqa: F841 - alive after the block
+        assert gc.get_freeze_count() >= before + 1000
+        assert gc.isenabled()
+    assert gc.get_freeze_count() == 0
+
+
 def _recorded(seen, name, function):
     def wrapper(*args, **kwargs):
         seen[name] = gc.isenabled()

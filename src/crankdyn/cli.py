@@ -18,7 +18,7 @@ import warnings
 from importlib import resources
 from pathlib import Path
 
-from .engine.frozen_heap import collector_paused
+from .engine.frozen_heap import collector_paused, frozen_heap
 from .errors import CrankdynError, Problem, SceneError, UsageError
 from .version import __version__
 
@@ -628,8 +628,13 @@ def _report(args) -> int:
 
         printer.prestart()  # WeasyPrint loads in a forked printer while the scene is computed
     try:
-        with _stage_time_limit(args.timeout):
-            return _write_report(args)
+        # what the imports and the scene's reading make lives as long as the report: frozen
+        # (crankdyn.engine.frozen_heap)
+        with frozen_heap():
+            with collector_paused():
+                limit = _stage_time_limit(args.timeout)
+            with limit:
+                return _write_report(args)
     finally:
         if printer is not None:
             printer.discard()  # one not used (a refused scene, no PDF after all): stopped
