@@ -703,3 +703,15 @@ def test_the_speed_at_which_the_irregularity_reaches_the_required_one():
     r = shared_run("inline6-diesel-trace", designed).outputs["flywheel"].results
     assert r["irregularity"] == pytest.approx(0.01, rel=2e-2)
     assert r["required_irregularity_reached_rpm"] is None
+
+
+def test_a_raised_flywheel_names_no_speed_at_which_the_irregularity_reaches_the_required_one():
+    """A flywheel raised until the exact solution gives [δ] has, by the energy method, a δ below
+    [δ] at the given speed (here by 1.5 %), yet any lower speed exceeds [δ]: no speed just below
+    the given one is named as where δ reaches [δ]."""
+    r = shared_run("diesel-1cyl", {"flywheel": {"required_irregularity": 0.05}}, ["flywheel"])
+    r = r.outputs["flywheel"].results
+    assert r["flywheel_raised"]
+    assert r["irregularity"] < 0.99 * 0.05
+    assert r["required_irregularity_reached_rpm"] is None
+    assert r["lower_speeds"][0]["irregularity"] > 0.05  # three quarters of the speed exceed it

@@ -354,6 +354,7 @@ def run(scene, inputs) -> StageOutput:
         exact_energy, raised = exact_design(
             torque, train, shaft, opts.required_irregularity, required_flywheel
         )
+    designed = opts.inertia is None and (raised is not None or bool(required_flywheel))
     flywheel = raised if raised is not None else flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
@@ -376,7 +377,16 @@ def run(scene, inputs) -> StageOutput:
         **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
-        **_gas_results(scene, torque, train, total, opts.required_irregularity, irregularity),
+        # a flywheel designed for [δ] (raised too) meets it at the given speed, and any lower
+        # speed exceeds it: no speed to name
+        **_gas_results(
+            scene,
+            torque,
+            train,
+            total,
+            None if designed else opts.required_irregularity,
+            irregularity,
+        ),
         "flywheel_share": flywheel / total,
         # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
         "flywheel_inertia_difference_kg_m2": (
