@@ -332,6 +332,20 @@ def _required(opts, excess_work_J: float, omega: float, own: float):
     return total, max(total - own, 0.0)
 
 
+def _notes(results: dict, articulated: bool) -> list:
+    """The stage's notes: no flywheel needed (the engine's own inertia meets [δ]), articulated rods."""
+    notes = [("flywheel.note_no_flywheel", {"own": results["own_inertia_kg_m2"]})]
+    notes = notes if results["own_inertia_sufficient"] else []
+    return notes + ([("flywheel.note_articulated", {})] if articulated else [])
+
+
+def _reached_from(opts, raised, required_flywheel):
+    """The [δ] whose speed :func:`lower_speeds` looks for: None for a flywheel designed for it
+    (raised too), which meets [δ] at the given speed while any lower speed exceeds it."""
+    designed = opts.inertia is None and (raised is not None or bool(required_flywheel))
+    return None if designed else opts.required_irregularity
+
+
 def run(scene, inputs) -> StageOutput:
     torque, bays = inputs[ENGINE_TORQUE], inputs[BAY_LOADS]
     opts = options(scene, "flywheel", FlywheelOptions)
@@ -354,7 +368,7 @@ def run(scene, inputs) -> StageOutput:
         exact_energy, raised = exact_design(
             torque, train, shaft, opts.required_irregularity, required_flywheel
         )
-    designed = opts.inertia is None and (raised is not None or bool(required_flywheel))
+    reached_from = _reached_from(opts, raised, required_flywheel)
     flywheel = raised if raised is not None else flywheel
     total = own + flywheel
     irregularity = fw.cyclic_irregularity(excess.excess_work_J, total, omega)
@@ -377,16 +391,7 @@ def run(scene, inputs) -> StageOutput:
         **_raise_results(exact_energy, raised, required_flywheel),
         "total_inertia_kg_m2": total,
         "irregularity": irregularity,
-        # a flywheel designed for [δ] (raised too) meets it at the given speed, and any lower
-        # speed exceeds it: no speed to name
-        **_gas_results(
-            scene,
-            torque,
-            train,
-            total,
-            None if designed else opts.required_irregularity,
-            irregularity,
-        ),
+        **_gas_results(scene, torque, train, total, reached_from, irregularity),
         "flywheel_share": flywheel / total,
         # J_0 - J_m - J_e as computed: negative when the engine's own inertia already meets [delta]
         "flywheel_inertia_difference_kg_m2": (
@@ -395,11 +400,7 @@ def run(scene, inputs) -> StageOutput:
         "own_inertia_sufficient": required_flywheel == 0.0 and opts.inertia is None and not raised,
         "rim": None,
     }
-    notes = (
-        [("flywheel.note_no_flywheel", {"own": own})] if results["own_inertia_sufficient"] else []
-    )
-    if train.articulated:
-        notes.append(("flywheel.note_articulated", {}))
+    notes = _notes(results, train.articulated)
     if opts.rim_mean_diameter is not None and flywheel > 0 and not is_propeller(scene):
         results["rim"] = _rim(opts, flywheel, omega)
 
