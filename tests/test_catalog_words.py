@@ -43,3 +43,17 @@ def test_russian_references_part_their_areas_with_dashes():
         if " : " in entry and " – " not in entry[: entry.rindex(" : ")]
     ]
     assert not bare
+
+
+def test_ukrainian_words_take_the_typographic_apostrophe():
+    """A Ukrainian word's apostrophe is the typographic one (розв’язок), as in the rest of the
+    note, not the typewriter's (розв'язок)."""
+    files = [ROOT / "templates" / "i18n" / "uk.toml", *ROOT.glob("plugins/*/*/i18n/*.uk.toml")]
+    straight = [
+        f"{path.relative_to(ROOT)}: {key}: {found.group(0)!r}"
+        for path in files
+        for key, text in _texts(tomllib.loads(path.read_text(encoding="utf-8")))
+        for found in re.finditer(r"[а-щьюяєіїґА-ЩЬЮЯЄІЇҐ]'[а-щьюяєіїґА-ЩЬЮЯЄІЇҐ]", text)
+    ]
+    assert (ROOT / "templates" / "i18n" / "uk.toml").exists()
+    assert not straight, "\n".join(straight)
