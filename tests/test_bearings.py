@@ -709,7 +709,9 @@ def test_rods_side_by_side_say_how_far_their_planes_lie_off_the_pins_middle():
     text = re.sub(
         r"\s+", " ", re.sub(r"<[^>]+>", " ", shared_html("v8-petrol", None, "en").linked_html)
     )
-    assert f"lies {width / 2 * 1e3:.3g} mm off the pin's middle" in text.replace("&#39;", "'")
+    text = text.replace("&#39;", "'")
+    # two rods: each is an outermost one
+    assert f"each rod's plane lies {width / 2 * 1e3:.3g} mm off the pin's middle" in text
     # one rod per pin: nothing to say
     assert (
         "rod_plane_offset_m"
@@ -908,7 +910,7 @@ def test_a_single_crank_with_rods_side_by_side_says_its_journals_share_unequally
     html = shared_html("v8-petrol", changes, "uk").linked_html
     text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
     offset = f"{width / 2 * 1e3:.3g}".replace(".", ",")
-    assert f"площина крайнього шатуна зміщена від середньої на {offset} мм" in text
+    assert f"площина кожного шатуна зміщена від середньої на {offset} мм" in text
     assert "проліт у завданні не вказано" in text
     # one crank pin: its rod bearings' captions name no pin number
     assert "на шатунній шийці (лише сила цього шатуна" in text
