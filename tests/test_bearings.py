@@ -1048,3 +1048,23 @@ def test_a_narrow_polar_diagrams_short_tick_labels_stay_upright():
     ticks, turned = rotation(-0.65, 0.65, 1 / 19)
     assert [round(v, 6) for v in ticks] == [-0.5, 0.0, 0.5]
     assert turned == 90
+
+
+def test_the_typical_proportions_named_are_those_of_the_sizes_assumed():
+    """A crank pin given and the main journals not: the note names the main journal's typical
+    proportions (d = 0.70·D, B = 0.45·d) and not the crank pin's 0.63·D, which it did not take."""
+
+    def text(changes, language):
+        html = shared_html("inline4-petrol", changes, language, ("bearings",)).linked_html
+        return " ".join(re.sub(r"<[^>]+>", "", html).split())
+
+    given_pin = text({"bearings": {"crank_pin_diameter": "50 mm", "crank_pin_width": "30 mm"}}, "uk")
+    assert (
+        "(діаметр корінної шийки 0,70·D, ширина корінної шийки 0,45 її діаметра); для остаточного"
+        in given_pin
+    )
+    assert "0,63·D" not in given_pin
+    assert (
+        "(crank pin diameter 0.63·D, crank pin width 0.60 of its diameter, main journal diameter "
+        "0.70·D, main journal width 0.45 of its diameter)" in text(None, "en")
+    )
