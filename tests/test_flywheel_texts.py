@@ -221,3 +221,24 @@ def test_a_lower_speed_with_a_smaller_irregularity_is_explained(rpm):
     else:
         assert not below
         assert "is smaller than at the given speed" not in text
+
+
+@pytest.mark.parametrize(
+    ("language", "meaning", "summed"),
+    [
+        ("uk", "Mд – індикаторний крутний момент двигуна", r"сумарн\w* [\w ]*крутн"),
+        ("ru", "Mд – индикаторный крутящий момент двигателя", r"суммарн\w* [\w ]*крутящ"),
+    ],
+)
+def test_a_single_cylinders_torque_is_not_called_a_sum(language, meaning, summed):
+    """One cylinder: nothing is summed, so neither the list of symbols nor the flywheel's section
+    and conclusions call the engine's torque the total one."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {"flywheel": {"required_irregularity": 0.02}}
+    html = shared_html("diesel-1cyl", changes, language).linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert meaning in text
+    assert "ΔL" in text and not re.search(summed, text)
