@@ -1058,7 +1058,9 @@ def test_the_typical_proportions_named_are_those_of_the_sizes_assumed():
         html = shared_html("inline4-petrol", changes, language, ("bearings",)).linked_html
         return " ".join(re.sub(r"<[^>]+>", "", html).split())
 
-    given_pin = text({"bearings": {"crank_pin_diameter": "50 mm", "crank_pin_width": "30 mm"}}, "uk")
+    given_pin = text(
+        {"bearings": {"crank_pin_diameter": "50 mm", "crank_pin_width": "30 mm"}}, "uk"
+    )
     assert (
         "(діаметр корінної шийки 0,70·D, ширина корінної шийки 0,45 її діаметра); для остаточного"
         in given_pin

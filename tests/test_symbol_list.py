@@ -318,3 +318,22 @@ def test_a_three_bank_engines_bank_angle_is_between_adjacent_banks():
     assert "γ – angle between the axes of adjacent cylinder banks" in text
     v = re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "en", ("kinematics",)).linked_html)
     assert "Bank angle" in v and "adjacent cylinder banks" not in v
+
+
+def test_a_letter_two_stages_declare_alike_is_listed_once_and_one_they_declare_apart_twice():
+    """The offset crank-slider's φ, declared by its kinematics and by its bearings with the same
+    meaning and unit, is one row that holds throughout; e_z, the crank's axis in the bearings and
+    the cylinder's axis in the rod's dynamics, is two rows, each saying its section."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("offset-crank-engine", None, "uk").linked_html
+    rows = [
+        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
+    ]
+    assert [r for r in rows if r.startswith("φ –")] == [
+        "φ – кут повороту кривошипа від напрямку осі циліндра, °"
+    ]
+    axes = [r for r in rows if r.startswith("ez –")]
+    assert len(axes) == 2 and all(re.search(r"\(у розділі \d+\)$", r) for r in axes)

@@ -121,7 +121,7 @@ SYMBOLS = {
     "velocity_A": Symbol("v", _A, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
     "acceleration_B": Symbol("a", _B, "unit.m_s2", html="<b>a</b><sub>{sub}</sub>"),
     "velocity_B": Symbol("v", _B, "unit.m_s", html="<b>v</b><sub>{sub}</sub>"),
-    "cylinder_axis_vector": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub>{sub}</sub>"),
+    "cylinder_axis_vector": Symbol("e", {"en": "z"}, "", html="<b>e</b><sub><i>{sub}</i></sub>"),
     "small_end_acceleration": Symbol("z\u0308", _A, "unit.m_s2"),
     "inertia_couple": Symbol("M", _G, "unit.Nm"),
     "correction_couple": Symbol("M", _G, "unit.Nm", html="Δ<i>M</i><sub>{sub}</sub>"),

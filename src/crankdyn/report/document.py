@@ -1139,7 +1139,7 @@ def symbol_list_html(
     stage's own letter, ``StagePresentation.symbols``, or a core symbol's ``Symbol.sections``), says where it
     holds, from ``places`` (stage -> [("section", "2", its HTML), ...]) where its section shows it:
     "k – відносний дезаксаж (у розділі 2)", "δ – коефіцієнт нерівномірності обертання (у розділах 8 і 9)"."""
-    markups = [symbol_html(key, language, symbols) for key in keys]
+    keys, markups = _distinct_meanings(keys, t, language, forms, symbols)
     magnitudes = _vector_magnitudes(markups, [symbols[key].unit for key in keys])
     rows = []
     for key, markup in zip(keys, markups, strict=True):
@@ -1175,6 +1175,21 @@ def symbol_list_html(
     if abbreviations:
         html += f'<p class="abbreviations">{escape(t("doc.symbols_abbreviations"))}</p>'
     return html
+
+
+def _distinct_meanings(keys, t, language: str, forms, symbols: SymbolTable):
+    """(keys, their markups) without a key whose letter, meaning and unit an earlier one has:
+    two plugins that declare the same quantity (φ of the offset crank-slider, in its kinematics
+    and in its bearings) give it one row, which holds throughout."""
+    kept, markups, seen = [], [], set()
+    for key in keys:
+        markup = symbol_html(key, language, symbols)
+        said = (markup, symbol_meaning(t, key, forms), list_unit(key, t, symbols))
+        if said not in seen:
+            seen.add(said)
+            kept.append(key)
+            markups.append(markup)
+    return kept, markups
 
 
 def _vector_magnitudes(markups: list[str], units: list[str]) -> dict[str, str]:
