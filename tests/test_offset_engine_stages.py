@@ -510,3 +510,21 @@ def test_a_negative_offsets_tdc_is_said_to_lie_before_the_axis():
     assert "ВМТ розташована на 2,562° перед віссю циліндра (проти напрямку обертання)" in text
     assert "−2,562° за віссю" not in text
     assert "відхиленої від осі циліндра на φВМТ = −2,562° у напрямку обертання" in text
+
+
+def test_the_masses_table_gives_the_harmonic_of_every_order_analysed():
+    """An offset crank-slider's table of masses gives |A_ν| and ψ_ν for each order the section
+    analyses (its figure and its tables of forces go on to the sixth), not for the first four only;
+    the phase's column reads "Phase ψ_ν, °"."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("offset-crank-engine").outputs["balancing"].results
+    analysed = [o["order"] for o in r["orders"] if o["order"] >= 1]
+    html = shared_html("offset-crank-engine", None, "en").linked_html
+    table = html[html.index("Masses, amplitudes of the forces") :]
+    table = table[: table.index("</table>")]
+    listed = [int(n) for n in re.findall(r"\|\u2060?<i>A</i><sub>(\d+)</sub>\|", table)]
+    assert max(analysed) > 4 and listed == analysed
+    assert "Phase <i>ψ</i><sub><i>ν</i></sub>, °" in table

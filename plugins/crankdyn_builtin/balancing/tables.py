@@ -14,16 +14,14 @@ from crankdyn_builtin.balancing.worked import worked_balancing
 from .notation import C_N, circular, master_mass, newton_metres, newtons, summary_symbol
 from .vectors import NEGLIGIBLE
 
-#: The orders whose |A_n| and psi_n the table of an offset crank-slider's masses gives.
-OFFSET_TABLE_ORDERS = ("I", "II", "III", "IV")
-
-
 def _offset_masses_table(ctx, r):
     """An offset crank-slider's masses, force amplitudes and the acceleration's harmonics as
-    amplitude |A_n| and phase psi_n (its series has sine terms and odd orders)."""
+    amplitude |A_n| and phase psi_n (its series has sine terms and odd orders), of every order
+    the section analyses."""
     t = ctx.t
     unit_n = " " + t("balancing.unit_N")
-    orders = [n for n in OFFSET_TABLE_ORDERS if n in r["acceleration_harmonics"]]
+    named = {bal_order(name): name for name in r["acceleration_harmonics"]}
+    orders = [named[o["order"]] for o in r["orders"] if o["order"] in named]
     names = [t("balancing.m_s"), t("balancing.m_R")] + [
         Markup(x)
         for x in (
@@ -46,7 +44,7 @@ def _offset_masses_table(ctx, r):
         [
             (t("balancing.quantity"), names, None),
             (t("balancing.value"), values, None),
-            (Markup(t("balancing.phase") + ", <i>ψ</i><sub><i>ν</i></sub>, °"), phases, None),
+            (Markup(t("balancing.phase") + " <i>ψ</i><sub><i>ν</i></sub>, °"), phases, None),
         ],
         caption=t("balancing.masses_caption"),
         see="balancing.see_masses",
