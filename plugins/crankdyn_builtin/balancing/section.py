@@ -8,7 +8,7 @@ from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.types import StageOutput
 from crankdyn.scene import options
 
-from .figures import _models_figure, models_left_out, star_figure
+from .figures import MAX_MODEL_PANELS, _models_figure, models_left_out, star_figure
 from .notation import circular, master_mass, newton_metres, newtons, plain_symbol, scale_symbol
 from .options import LEAVE_SHARE, BalancingOptions, flies_without_shafts
 from .tables import (
@@ -864,6 +864,7 @@ def render(output: StageOutput, ctx) -> str | None:
     models_figure = _models_figure(ctx, r)
     bay_table = _bay_table(ctx, r)  # numbered as the section shows them: the bay's model first
     coef_table = coefficients_table(ctx, r)
+    coef_number = ctx.last_table_number if coef_table else None
     summary_table = _summary_table(ctx, r)
     means_table = _means_table(ctx, r)
     explorer_table = _explorer_table(ctx, r)
@@ -878,6 +879,8 @@ def render(output: StageOutput, ctx) -> str | None:
         masses_table=masses_table,
         models_figure=models_figure,
         models_left_out=[str(order) for order in models_left_out(r)],
+        model_panels=MAX_MODEL_PANELS,
+        coef_number=coef_number,
         join_and=ctx.t.join_and,
         coef_table=coef_table,
         bay_table=bay_table,

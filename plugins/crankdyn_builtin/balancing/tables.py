@@ -14,6 +14,7 @@ from crankdyn_builtin.balancing.worked import worked_balancing
 from .notation import C_N, circular, master_mass, newton_metres, newtons, summary_symbol
 from .vectors import NEGLIGIBLE
 
+
 def _offset_masses_table(ctx, r):
     """An offset crank-slider's masses, force amplitudes and the acceleration's harmonics as
     amplitude |A_n| and phase psi_n (its series has sine terms and odd orders), of every order
