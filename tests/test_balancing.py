@@ -688,10 +688,13 @@ def test_the_vector_models_titles_set_the_orders_numeral_upright(tmp_path):
         flags=re.S,
     ).group(0)
     assert r"\Sigma" not in svg and "Σ" not in section
-    # one cylinder: no moments in the summary table, nor in its caption
+    # one cylinder: no moments in the summary table, nor in its caption; each force is whole and
+    # unbalanced, so neither table gives a coefficient (always 1) or a state (always unbalanced)
     html = (out / "report.html").read_text(encoding="utf-8")
-    assert "Balance of the forces, and the balancing means" in html
-    assert "Balance of the forces and moments" not in html
+    assert "The forces and their balancing means" in html
+    assert "Balance of the forces" not in html
+    assert "<th>Coefficient</th>" not in section and ">unbalanced<" not in section
+    assert "Largest force, in units of" not in section
 
 
 @pytest.mark.parametrize(

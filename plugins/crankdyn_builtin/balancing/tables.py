@@ -152,7 +152,11 @@ def coefficients_table(ctx, r):
             else "balancing.coefficients_caption"
         ),
         css_class="data wide",
-        see="balancing.see_coefficients_single" if one_plane(r) else "balancing.see_coefficients",
+        see="balancing.see_forces_single"
+        if single
+        else "balancing.see_coefficients_single"
+        if one_plane(r)
+        else "balancing.see_coefficients",
     )
 
 
@@ -172,15 +176,17 @@ def _force_columns(ctx, r, single: bool) -> list[tuple]:
     columns = [
         (t("balancing.order"), [_order_name(o) for o in orders], None),
         # in words: P and M alone name other quantities in this section (the bay model's P)
-        (
-            t(
-                "balancing.head_force_max_ratio"
-                if single
-                else "balancing.head_resultant_force_ratio",
-                scale=C_N,
-            ),
-            [o["force_coefficient"] for o in orders],
-            4,
+        # one cylinder's largest force is C_ν itself in every order: no ratio to tabulate
+        *(
+            []
+            if single
+            else [
+                (
+                    t("balancing.head_resultant_force_ratio", scale=C_N),
+                    [o["force_coefficient"] for o in orders],
+                    4,
+                )
+            ]
         ),
         (
             t("balancing.head_force_max" if single else "balancing.head_resultant_force")
@@ -318,14 +324,21 @@ def _summary_table(ctx, r):
                 [summary_symbol(s, "" if single else "Σ") for s in rows],
                 None,
             ),
-            (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
-            (
-                t("balancing.state"),
-                [
-                    t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
-                    for s in rows
-                ],
-                None,
+            # one cylinder leaves every force whole and unbalanced: no coefficient or state to give
+            *(
+                []
+                if single
+                else [
+                    (t("balancing.coefficient"), [s["coefficient"] for s in rows], 4),
+                    (
+                        t("balancing.state"),
+                        [
+                            t("balancing.balanced") if s["balanced"] else t("balancing.unbalanced")
+                            for s in rows
+                        ],
+                        None,
+                    ),
+                ]
             ),
             (
                 t("balancing.remedy"),
@@ -351,9 +364,13 @@ def _summary_table(ctx, r):
             ),
         ],
         caption=t(
-            "balancing.summary_caption_forces" if one_plane(r) else "balancing.summary_caption"
+            "balancing.summary_caption_single"
+            if single
+            else "balancing.summary_caption_forces"
+            if one_plane(r)
+            else "balancing.summary_caption"
         ),
-        see="balancing.see_summary",
+        see="balancing.see_summary_single" if single else "balancing.see_summary",
     )
 
     return summary_table
