@@ -1070,3 +1070,21 @@ def test_the_typical_proportions_named_are_those_of_the_sizes_assumed():
         "(crank pin diameter 0.63·D, crank pin width 0.60 of its diameter, main journal diameter "
         "0.70·D, main journal width 0.45 of its diameter)" in text(None, "en")
     )
+
+
+def test_a_flat_engines_vertical_is_normal_to_its_cylinders_not_the_banks_axis_of_symmetry():
+    """A boxer's main-bearing diagrams take y along the engine's vertical, which is normal to its
+    opposed cylinders' axes: said so in the section and in the list of symbols, not in a V's
+    words ("the banks' axis of symmetry")."""
+    from conftest import FLAT_FOUR_ENGINE
+
+    html = shared_html("v8-petrol", {"engine": FLAT_FOUR_ENGINE}, "ru").linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert "y – вдоль вертикали двигателя, перпендикулярно к осям цилиндров, сверху" in text
+    assert (
+        "y – ось диаграммы коренного подшипника вдоль вертикали двигателя (перпендикулярно к "
+        "осям цилиндров)" in text
+    )
+    assert "симметрии рядов" not in text
+    v8 = " ".join(re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "ru").linked_html).split())
+    assert "вдоль вертикали двигателя, оси симметрии рядов цилиндров" in v8

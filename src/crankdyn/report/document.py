@@ -505,11 +505,14 @@ def _meaning_forms(scene) -> tuple[str, ...]:
     a shaft of one crank ("without its crank's mass", not "its cranks' masses"), a W, Y or X
     engine's (its bank angle between adjacent banks), an aircraft engine's (its propeller's
     inertia where another engine has a flywheel's), an engine with banks (its frame along the
-    banks' axis of symmetry); a crosshead engine's first (its side force on the guides);
-    articulated rods' before a bank's (the master rod's bearing carries all the rods' forces)."""
+    banks' axis of symmetry; a boxer's, before it, normal to its cylinders); a crosshead engine's
+    first (its side force on the guides); articulated rods' before a bank's (the master rod's
+    bearing carries all the rods' forces)."""
     forms = []
     if getattr(scene.engine, "crosshead", False):
         forms.append("crosshead")  # the side force on the crosshead's guides, its moving parts
+    if scene.engine.layout == "boxer":
+        forms.append("flat")  # the engine's vertical is normal to its cylinders' axes
     if scene.engine.layout in ("V", "W", "Y", "X", "boxer"):
         forms.append("vertical")  # an engine frame along the banks' axis of symmetry
     one_crank = _cranks(scene) == 1
