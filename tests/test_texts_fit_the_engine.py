@@ -322,3 +322,16 @@ def test_the_radii_of_means_the_calculation_takes_are_in_the_table_of_values_tak
     given = {"balancing": {"counterweight_radius": "45 mm"}}
     taken = _text("petrol-1cyl", given, "en", ("balancing",))
     assert "Radius of the counterweights' centre of mass 39 mm" not in taken
+
+
+def test_the_full_support_shaft_the_calculation_takes_is_in_the_table_of_values_taken():
+    """The section on the cranks takes a main support between neighbouring cranks and at both
+    ends (five for an in-line four), which no assignment gives: a row of the values taken; a
+    single cylinder's crank has no such choice."""
+    text = _text("inline4-petrol", None, "en", ("bays",))
+    taken = text[text.index("Values taken in the calculation") :]
+    assert (
+        "Main supports of the crankshaft (one between neighbouring cranks and one at each end) 5"
+        in taken
+    )
+    assert "Main supports of the crankshaft" not in _text("petrol-1cyl", None, "en", ("bays",))

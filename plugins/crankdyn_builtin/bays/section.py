@@ -534,20 +534,30 @@ def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
 
 
 def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
-    """The articulated rods' values the calculation takes where the scene gives none, for the
+    """The crankshaft's main supports and the articulated rods' values the calculation takes where the scene gives none, for the
     table of the values taken: the knuckle pins' angles γ_1 (each slave cylinder's axis angle),
     the slave rods' lengths (for equal compression ratios, or the textbook's L − r), the slave
-    rod's centre of mass and a knuckle pin of no mass (it enters m_R)."""
-    if scene.engine.rod_type != "articulated":
-        return []
-    opts = options(scene, ARTICULATED, ArticulatedOptions)
-    given = opts.model_fields_set
+    rod's centre of mass and a knuckle pin of no mass (it enters m_R). A shaft of several cranks
+    is taken with a main support between neighbouring cranks and at both ends."""
     try:
-        slaves = slave_geometries(scene, engine_layout(scene), opts, ARTICULATED)
+        layout = engine_layout(scene)
     except SceneError:  # refused where the stages run, with its own message
         return []
     t, num = ctx.t, ctx.t.number_g
-    rows = []
+    supports = (
+        [(t("bays.input_main_supports"), "", str(layout.cranks + 1), "")]
+        if layout.cranks > 1
+        else []
+    )
+    if scene.engine.rod_type != "articulated":
+        return supports
+    opts = options(scene, ARTICULATED, ArticulatedOptions)
+    given = opts.model_fields_set
+    try:
+        slaves = slave_geometries(scene, layout, opts, ARTICULATED)
+    except SceneError:  # refused where the stages run, with its own message
+        return supports
+    rows = supports
     if opts.pin_angle_deg is None and opts.pin_angles_deg is None:
         angles = "; ".join(num(math.degrees(g.pin_angle_rad), 4) for _, g in slaves)
         rows.append((t("bays.input_pin_angle"), "<i>γ</i><sub>1</sub>", angles, "°"))
