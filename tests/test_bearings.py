@@ -504,6 +504,12 @@ def test_two_narrow_polar_diagrams_stand_side_by_side_each_announced_with_its_nu
     assert _polar_size(t, 3 * np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)[0] <= HALF_WIDTH_CM
     width, height = _polar_size(t, np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)
     assert height == POLAR_HEIGHT_CM <= POLAR_HEIGHT_MAX_CM and width > HALF_WIDTH_CM
+    # a flat one (a boxer's main bearing: t up to 10, z to 2, a journal circle of 0.12·10)
+    # takes the full width and only the height its plot needs at equal scales (1.1 × 14 cm ×
+    # 4/20), with 2.2 cm of labels: 5.28 of the usual 12 cm
+    width, height = _polar_size(10 * t, 2 * np.sin(np.linspace(0, 2 * np.pi, 73)), 0.0, 0.12)
+    assert width == 16.0
+    assert height == pytest.approx(1.1 * 14.0 * 4.0 / 20.0 + 2.2, rel=1e-9)
 
 
 def test_the_wear_diagram_shows_the_crank_axes_its_angles_are_counted_in():

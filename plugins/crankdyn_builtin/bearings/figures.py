@@ -69,6 +69,8 @@ HALF_WIDTH_CM = 8.0
 #: caption at these sizes).
 POLAR_HEIGHT_CM = 12.0
 POLAR_HEIGHT_MAX_CM = 13.0
+#: The least height of a flat polar diagram's figure, cm (its title, axis and tick labels).
+POLAR_HEIGHT_MIN_CM = 5.0
 
 
 def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, float]:
@@ -83,8 +85,8 @@ def _polar_extent(t, z, pole_z, diameter_scale) -> tuple[float, float, float, fl
 def _polar_size(t, z, pole_z, diameter_scale) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram of ``t``, ``z`` (MPa) around the pole: equal scales
     on both axes; a tall diagram (a crank pin's or a main journal's, far from its pole) gets a
-    taller figure (at most :data:`POLAR_HEIGHT_MAX_CM`) only as wide as its plot needs (with the ticks and labels ≈ 2.4 cm), a wide one
-    a wider figure."""
+    taller figure (at most :data:`POLAR_HEIGHT_MAX_CM`) only as wide as its plot needs (with the
+    ticks and labels ≈ 2.4 cm), a wide one a wider figure only as tall as its plot needs."""
     return _size_for(*_polar_extent(t, z, pole_z, diameter_scale)[2:])
 
 
@@ -92,7 +94,11 @@ def _size_for(shown_t: float, shown_z: float) -> tuple[float, float]:
     """(width, height) in cm of a polar diagram showing these t and z ranges (:func:`_polar_size`)."""
     aspect = max(shown_z, 1e-9) / max(shown_t, 1e-9)
     if aspect < 1:
-        return min(16.0, POLAR_HEIGHT_CM / math.sqrt(aspect)), POLAR_HEIGHT_CM
+        width = min(16.0, POLAR_HEIGHT_CM / math.sqrt(aspect))
+        # only as tall as the plot at that width needs (a flat one at the full width is a strip:
+        # a figure of the usual height would leave most of the page around it empty)
+        plot = 1.1 * (width - 2.0) * aspect + 2.2
+        return width, min(POLAR_HEIGHT_CM, max(POLAR_HEIGHT_MIN_CM, plot))
     height = min(POLAR_HEIGHT_MAX_CM, POLAR_HEIGHT_CM * math.sqrt(aspect))
     return min(12.0, max(7.0, 1.1 * (height - 2.2) / aspect + 2.4)), height
 
