@@ -1094,3 +1094,29 @@ def test_a_flat_engines_vertical_is_normal_to_its_cylinders_not_the_banks_axis_o
     assert "симметрии рядов" not in text
     v8 = " ".join(re.sub(r"<[^>]+>", "", shared_html("v8-petrol", None, "ru").linked_html).split())
     assert "вдоль вертикали двигателя, оси симметрии рядов цилиндров" in v8
+
+
+def test_rods_side_by_side_are_told_each_bearings_width_and_the_pins_length():
+    """The pressure of a big-end bearing among two on a pin is its own: the note asks for each
+    bearing's d·B and width and for the pin's length, which carries both (twice the width), not
+    for "the crank pin's" area with one bearing's width."""
+    from conftest import V_TWIN_ENGINE
+
+    changes = {
+        "engine": V_TWIN_ENGINE,
+        "bearings": {"crank_pin_diameter": "36 mm", "crank_pin_width": "30 mm"},
+    }
+    r = shared_run("v8-petrol", changes, ("bearings",)).outputs["bearings"].results
+    assert r["rod_bearings_per_pin"] == 2
+    text = " ".join(
+        re.sub(r"<[^>]+>", "", shared_html("v8-petrol", changes, "en").linked_html).split()
+    )
+    found = re.search(
+        r"each big-end bearing needs a projected area d·B ≥ ([\d ]+) mm² \(a bearing width "
+        r"B ≥ ([\d.]+) mm at d = 36 mm, a pin at least ([\d.]+) mm long\)",
+        text,
+    )
+    assert found, "no side-by-side pressure conclusion"
+    area, width, pin = (float(g.replace(" ", "")) for g in found.groups())
+    assert width == pytest.approx(area / 36, rel=2e-3) and pin == pytest.approx(2 * width, rel=2e-3)
+    assert "the crank pin needs a projected area" not in text

@@ -104,9 +104,18 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
             width=width_m * 1e3,
             width_needed=area_needed_m2 / diameter_m * 1e3,
         )
+    # rods side by side: B is each big-end bearing's, and the pin carries them all
+    side_by_side = per_pin > 1 and "width_needed" in params
+    if side_by_side:
+        params.update(n=per_pin, pin_width_needed=per_pin * params["width_needed"])
     # sizes assumed from typical ratios: the verdict is said to rest on them
     assumed = bool({"crank_pin_diameter", "crank_pin_width"} & set(sizes.get("defaulted", ())))
-    key = f"bearings.plausibility_pin_pressure_{kind}" + ("_assumed" if assumed else "")
+    key = (
+        "bearings.plausibility_pin_pressure_"
+        + ("side_by_side_" if side_by_side else "")
+        + kind
+        + ("_assumed" if assumed else "")
+    )
     return [(key, params)]
 
 
