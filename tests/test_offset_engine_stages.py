@@ -533,3 +533,15 @@ def test_the_masses_table_gives_the_harmonic_of_every_order_analysed():
     listed = [int(n) for n in re.findall(r"\|\u2060?<i>A</i><sub>(\d+)</sub>\|", table)]
     assert max(analysed) > 4 and listed == analysed
     assert "Phase <i>ψ</i><sub><i>ν</i></sub>, °" in table
+
+
+@pytest.mark.parametrize("language", ["uk", "ru", "en"])
+def test_the_replaced_formulas_set_their_letters_as_the_note_does(language):
+    """The list of the textbook's formulas an offset replaces sets p_1 and the stroke's S = 2·R in
+    italics with a true subscript, as every other formula of the note, not as "p₁" or "2R"."""
+    from conftest import shared_html
+
+    html = shared_html("offset-crank-engine", None, language).linked_html.replace("\u00a0", " ")
+    assert "p₁" not in html and "πD²" not in html and "= 2R" not in html
+    assert "<i>t</i> = <i>p</i><sub>1</sub> sin(" in html
+    assert "<i>S</i> = 2·<i>R</i>" in html
