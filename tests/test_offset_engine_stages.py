@@ -544,4 +544,5 @@ def test_the_replaced_formulas_set_their_letters_as_the_note_does(language):
     html = shared_html("offset-crank-engine", None, language).linked_html.replace("\u00a0", " ")
     assert "p₁" not in html and "πD²" not in html and "= 2R" not in html
     assert "<i>t</i> = <i>p</i><sub>1</sub> sin(" in html
-    assert "<i>S</i> = 2·<i>R</i>" in html
+    if language != "en":  # lone letters of Cyrillic prose in italics (the English prose's upright)
+        assert "<i>S</i> = 2·<i>R</i>" in html
