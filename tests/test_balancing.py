@@ -1623,3 +1623,20 @@ def test_a_short_vectors_name_stands_clear_of_its_head():
     assert ax.placed[1] == (0.0, 0.5) and ax.placed[2] == pytest.approx((-5.0, 0.0))
     _name_arrow(ax, "b", 0j, 0.2 + 0j, side=-1.0, half_width=1.25)  # 0.16 of the panel
     assert ax.placed[2] == pytest.approx((9.0, 0.0))
+
+
+def test_a_counter_rotating_vector_turned_back_over_the_other_is_named_on_the_other_side():
+    """b drawn from f's tip back over f (an offset single's third order: b ≈ −f) has its middle
+    where f's is; named on its right, as usual, it stood on f's name ("bf"). Named on its left
+    it stands across the arrows from f; a b going on past f keeps its right."""
+    from crankdyn_builtin.balancing.figures import _models_drawing
+
+    def offsets(f, b):
+        fig = _models_drawing([(3, "PIII", 3, [("force", f, b, 1.0)])], False, 1, "balanced")
+        names = {a.get_text(): a.xyann for a in fig.axes[0].texts if a.get_text() in "fb"}
+        return np.array(names["f"]), np.array(names["b"])
+
+    f_at, b_at = offsets(0.5 + 0.02j, -0.49 + 0.01j)
+    assert np.dot(f_at, b_at) < 0  # on opposite sides of the common line
+    f_at, b_at = offsets(0.5 + 0.0j, 0.4 + 0.0j)
+    assert np.dot(f_at, b_at) < 0  # f on the left of the line, b on the right

@@ -233,7 +233,10 @@ def _models_drawing(panels, moments: bool, cylinders: int, balanced_label: str):
                 _name_arrow(ax, "f", 0j, f, side=1.0, half_width=lim)
             if abs(b) > 1e-9:
                 _arrow(ax, f.imag, f.real, f.imag + b.imag, f.real + b.real, color="C3")
-                _name_arrow(ax, "b", f, b, side=-1.0, half_width=lim)
+                # b turned back over f (an offset single's odd orders): its right is f's left,
+                # where f is named, so b is named on its left
+                back = (f.conjugate() * b).real < 0
+                _name_arrow(ax, "b", f, b, side=1.0 if back else -1.0, half_width=lim)
             ax.set_xlim(-lim, lim)
             ax.set_ylim(-lim, lim)
             ax.axhline(0, color="0.75", lw=0.5, zorder=1)
