@@ -107,7 +107,8 @@ def _pin_pressure(scene, results=None) -> list[tuple[str, dict]]:
     # rods side by side: B is each big-end bearing's, and the pin carries them all
     side_by_side = per_pin > 1 and "width_needed" in params
     if side_by_side:
-        params.update(n=per_pin, pin_width_needed=per_pin * params["width_needed"])
+        length_m = sizes.get("crank_pin_length_needed_m") or per_pin * area_needed_m2 / diameter_m
+        params.update(n=per_pin, pin_width_needed=length_m * 1e3)
     # sizes assumed from typical ratios: the verdict is said to rest on them
     assumed = bool({"crank_pin_diameter", "crank_pin_width"} & set(sizes.get("defaulted", ())))
     key = (
@@ -516,12 +517,17 @@ def _dimension_results(sizes, defaulted: list[str], area_needed: float) -> dict:
 
 
 def _rod_bearing_needed(rod_results, per_pin: int, d_pin: float, kind: str) -> dict:
-    """With big-end bearings side by side on the pins: the d·B of one bearing, and its width at
-    the pin's diameter, that the allowable pressures need for the most loaded one (m², m)."""
+    """With big-end bearings side by side on the pins: the d·B of one bearing, its width at the
+    pin's diameter, that the allowable pressures need for the most loaded one, and the pin's
+    length for all its bearings of that width (m², m, m)."""
     if per_pin == 1:
         return {}
     area = pin_area_needed_m2(rod_results, kind)
-    return {"rod_bearing_area_needed_m2": area, "rod_bearing_width_needed_m": area / d_pin}
+    return {
+        "rod_bearing_area_needed_m2": area,
+        "rod_bearing_width_needed_m": area / d_pin,
+        "crank_pin_length_needed_m": per_pin * area / d_pin,
+    }
 
 
 def _check_drawn_numbers(opts: BearingOptions, cranks: int) -> None:
