@@ -328,7 +328,9 @@ def test_a_dotted_letter_is_not_the_letter():
     is the second derivative of a coordinate (the italic run "z̈" is not read letter by letter)."""
     # the rod dynamics' own letters (Stage.symbols): the vectors and the dotted z̈_A, none of them z
     assert symbols_in(
-        "<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub><i>z</i></sub>", "uk", "rod_dynamics"
+        "<b>a</b><sub>G</sub> = <i>z̈</i><sub>A</sub> <b>e</b><sub><i>z</i></sub>",
+        "uk",
+        "rod_dynamics",
     ) == [
         "rod_dynamics.acceleration_G",
         "rod_dynamics.small_end_acceleration",

@@ -242,3 +242,20 @@ def test_a_single_cylinders_torque_is_not_called_a_sum(language, meaning, summed
     text = " ".join(re.sub(r"<[^>]+>", "", html).split())
     assert meaning in text
     assert "ΔL" in text and not re.search(summed, text)
+
+
+def test_a_rim_speed_over_the_limit_is_printed_with_the_digits_that_show_it():
+    """50.04 m/s against an allowed 50 m/s: three digits would print "50,0 m/s exceeds the
+    allowable 50 m/s"; the speed gets the digits that tell it from the limit, and no more where
+    three already do."""
+    from types import SimpleNamespace
+
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.flywheel.section import rim_speed_text
+
+    t = translator("uk")
+    ctx = SimpleNamespace(num=lambda value, significant=4: t.number(value, significant))
+    assert rim_speed_text(ctx, {"speed_m_s": 50.04, "max_speed_m_s": 50.0}) == "50,04"
+    assert rim_speed_text(ctx, {"speed_m_s": 50.0004, "max_speed_m_s": 50.0}) == "50,0004"
+    assert rim_speed_text(ctx, {"speed_m_s": 47.318, "max_speed_m_s": 50.0}) == "47,3"
+    assert rim_speed_text(ctx, {"speed_m_s": 47.318, "max_speed_m_s": None}) == "47,3"

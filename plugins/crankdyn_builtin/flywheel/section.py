@@ -80,6 +80,7 @@ def render(output: StageOutput, ctx) -> str:
         # a shaft of one crank: "its crank's mass", "the crank's webs" (catalog keys "…_one_crank")
         crank_key=lambda key: crank_key(t, key, cranks),
         rim=rim,
+        rim_speed=rim_speed_text(ctx, rim) if rim else None,
         figure_work=figure_work,
         table=table,
         shaft_inertia_given="engine_inertia" in opts.model_fields_set,
@@ -275,13 +276,24 @@ def _conclude(ctx, r: dict) -> None:
     )
 
 
+def rim_speed_text(ctx, rim: dict) -> str:
+    """The rim's peripheral speed to three significant digits, or as many more (up to six) as
+    tell it from the allowed speed it is compared with: 50,04 m/s against 50, not "50,0 m/s
+    exceeds the allowable 50 m/s"."""
+    speed, limit = rim["speed_m_s"], rim.get("max_speed_m_s")
+    digits = 3
+    while limit is not None and digits < 6 and float(f"{speed:.{digits}g}") == limit:
+        digits += 1
+    return ctx.num(speed, digits)
+
+
 def _conclude_rim_too_fast(ctx, r: dict) -> None:
     """A rim faster than the allowed peripheral speed: the flywheel as sized fails its check, and
     the abstract and the conclusions say so (not only the section)."""
     rim = r.get("rim") or {}
     if rim.get("speed_ok") is not False:
         return
-    params = {"speed": ctx.num(rim["speed_m_s"], 3), "limit": ctx.t.number_g(rim["max_speed_m_s"])}
+    params = {"speed": rim_speed_text(ctx, rim), "limit": ctx.t.number_g(rim["max_speed_m_s"])}
     ctx.find(ctx.t("flywheel.finding_rim_too_fast", **params))
     passing = rim.get("passing")
     if passing is None:
