@@ -259,3 +259,27 @@ def test_a_rim_speed_over_the_limit_is_printed_with_the_digits_that_show_it():
     assert rim_speed_text(ctx, {"speed_m_s": 50.0004, "max_speed_m_s": 50.0}) == "50,0004"
     assert rim_speed_text(ctx, {"speed_m_s": 47.318, "max_speed_m_s": 50.0}) == "47,3"
     assert rim_speed_text(ctx, {"speed_m_s": 47.318, "max_speed_m_s": None}) == "47,3"
+
+
+def test_a_cars_small_flywheel_is_not_said_to_be_hardly_needed():
+    """A V8 car engine whose [δ] = 0.01 asks for a flywheel of 1 % of J_0: the note says that is
+    all [δ] asks for, not that the shaft's parts make it up and "a separate flywheel is hardly
+    needed", which the next paragraph (a vehicle's flywheel is larger) contradicts; a stationary
+    engine's note says it as before."""
+    import re
+
+    from conftest import shared_html
+
+    def text(application):
+        changes = {
+            "flywheel": {"required_irregularity": 0.01},
+            "engine": {"application": application},
+        }
+        return " ".join(
+            re.sub(r"<[^>]+>", "", shared_html("v8-petrol", changes, "en").linked_html).split()
+        )
+
+    car = text("automotive")
+    assert re.search(r"So small a flywheel \([\d.]+ % of J0\) is all that \[δ\] at the given", car)
+    assert "hardly needed" not in car and "made a separate part all the same" not in car
+    assert "a separate flywheel is hardly needed" in text("stationary")
