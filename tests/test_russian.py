@@ -143,3 +143,20 @@ def test_a_russian_note_numbers_its_pages_at_the_bottom_centre():
     uk = run_scene(load_scene(examples_dir() / "petrol-1cyl-uk.toml"), registry, ["kinematics"])
     # (the Ukrainian example is printed in the ESKD frame, whose block carries the sheet number)
     assert "@bottom-center { content: counter(page)" not in render_html(uk, registry).linked_html
+
+
+def test_an_order_left_unbalanced_is_said_so_whatever_its_gender():
+    """The balancing summary's means column: "P_II | оставлено неуравновешенным" agreed with
+    neither the force (она) nor the moment (он); "не уравновешивается" fits both, as "не
+    зрівноважується" does in Ukrainian."""
+    import re
+
+    from conftest import shared_html
+
+    for language, words in (("ru", "не уравновешивается"), ("uk", "не зрівноважується")):
+        html = shared_html("inline4-petrol", None, language, ("balancing",)).linked_html
+        cells = re.findall(r'<td class="text">([^<]*)</td>', html)
+        assert any(c.startswith(words) for c in cells)
+        assert not any(
+            "оставлено неуравновешенным" in c or "залишено незрівноваженим" in c for c in cells
+        )
