@@ -283,3 +283,18 @@ def test_a_cars_small_flywheel_is_not_said_to_be_hardly_needed():
     assert re.search(r"So small a flywheel \([\d.]+ % of J0\) is all that \[δ\] at the given", car)
     assert "hardly needed" not in car and "made a separate part all the same" not in car
     assert "a separate flywheel is hardly needed" in text("stationary")
+
+
+def test_the_excess_work_figure_calls_the_torque_indicated_not_total():
+    """The legend of the excess work's figure: a single cylinder's torque is no sum, and any
+    engine's is its indicated torque (as the English legend says)."""
+    from conftest import shared_html
+
+    changes = {"flywheel": {"required_irregularity": 0.02}}
+    for language, words in (
+        ("ru", "индикаторный крутящий момент"),
+        ("uk", "індикаторний крутний момент"),
+    ):
+        figures = shared_html("diesel-1cyl", changes, language).figures
+        svg = next(f for f in figures if "excess_work" in f.name).svg.decode()
+        assert words in svg and "суммарный" not in svg and "сумарний" not in svg
