@@ -1389,7 +1389,7 @@ def test_negligible_moments_alone_are_a_share_of_c_i_a_not_of_a_force():
     page = shared_html("inline4-petrol", boxer, "en", ("balancing",)).linked_html
     text = html_lib.unescape(" ".join(re.sub(r"<[^>]+>", "", page).split()))
     assert re.search(
-        r"The other unbalanced moment of the sixth order \(ΣMVI = [\d.]+ N·m\) is at most "
+        r"Besides them, the unbalanced moment of the sixth order \(ΣMVI = [\d.]+ N·m\) is at most "
         r"[\d.]+ % of CI·a \(one cylinder's first-order inertia force amplitude CI times the "
         r"cylinder spacing a\) and negligible\.",
         text,

@@ -240,10 +240,10 @@ def test_an_english_note_writes_angles_with_the_degree_sign():
 
 
 def test_the_english_negligible_orders_read_as_a_sentence():
-    """ "The other unbalanced force of the sixth order (…)", not "The other unbalanced the force
+    """ "Besides them, the unbalanced force of the sixth order (…)", not "the unbalanced the force
     of the sixth order"."""
     text = _text(shared_html("inline4-petrol", None, "en").linked_html)
-    assert "The other unbalanced force of the sixth order" in text  # the one force: singular
+    assert "Besides them, the unbalanced force of the sixth order" in text  # the one force: singular
     assert "unbalanced the " not in text
 
 

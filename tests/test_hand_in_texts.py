@@ -297,7 +297,7 @@ def test_a_single_cylinder_conclusion_gives_its_unbalanced_forces_in_newtons(rep
         in text
     )
     # one cylinder: no moments; the negligible forces named by their orders
-    assert re.search(r"Інші незрівноважені сили [^(]*порядк(у|ів) \(", text)
+    assert re.search(r"Крім них, незрівноважені сили [^(]*порядк(у|ів) \(", text)
     assert "сили й моменти" not in text and "сили і моменти" not in text
 
 
@@ -700,7 +700,7 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     c_first = float(re.search(r"CI = msRω2 = ([\d ]+) Н", text).group(1).replace(" ", ""))
     # forces only: what is left is ΣP_VI, no moment (no "сили й моменти" where there are none)
     found = re.search(
-        r"Інша незрівноважена сила шостого порядку \((.*?)\) становить не більше ніж ([\d,]+) % "
+        r"Крім них, незрівноважена сила шостого порядку \((.*?)\) становить не більше ніж ([\d,]+) % "
         r"амплітуди сили "
         r"інерції першого порядку одного циліндра CI, тому нею можна знехтувати\.",
         text,
@@ -1273,7 +1273,7 @@ def test_what_the_means_leave_points_to_the_slave_cylinders_parts(reports):
     parts only its slave cylinders make, said next: the means' conclusion does not list the
     negligible ones again as what remains, and the slaves' parts follow it."""
     text = as_read(re.sub(r"<[^>]+>", "", reports("radial9-aircraft")))
-    conclusions = text[text.index("Інші незрівноважені сили четвертого і шостого порядків") :]
+    conclusions = text[text.index("Крім них, незрівноважені сили четвертого і шостого порядків") :]
     means = conclusions[conclusions.index("Засоби зрівноваження:") :]
     sentence = means.split(".", 1)[0]
     assert "ΣPIV" not in sentence and "залишаються" not in sentence
