@@ -363,3 +363,17 @@ def test_a_torque_period_longer_than_the_firing_interval_is_explained():
     text = v12_text()
     assert "Период крутящего момента – 120°, а не 60°" in text
     assert "прицепные цилиндры отличаются от главных" in text
+
+
+def test_a_radials_torque_period_names_its_one_master_cylinder():
+    """A single-row radial has one master cylinder: its slaves differ "from the master one"."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    r = shared_run("radial9-aircraft").outputs["torque"].results
+    html = shared_html("radial9-aircraft", None, "ru").linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert r["period_deg"] > r["period_even_firing_deg"]  # 720° against 80°
+    assert "прицепные цилиндры отличаются от главного (" in text
+    assert "отличаются от главных" not in text

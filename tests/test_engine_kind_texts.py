@@ -243,7 +243,9 @@ def test_the_english_negligible_orders_read_as_a_sentence():
     """ "Besides them, the unbalanced force of the sixth order (…)", not "the unbalanced the force
     of the sixth order"."""
     text = _text(shared_html("inline4-petrol", None, "en").linked_html)
-    assert "Besides them, the unbalanced force of the sixth order" in text  # the one force: singular
+    assert (
+        "Besides them, the unbalanced force of the sixth order" in text
+    )  # the one force: singular
     assert "unbalanced the " not in text
 
 
