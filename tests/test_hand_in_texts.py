@@ -716,9 +716,12 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     )
     # nor is it called unbalanced there: the abstract names it as small, as the table leaves it
     plain = " ".join(abstract.replace("\u202f", " ").replace("\u00a0", " ").split())
-    # the abstract names it with its value and share of C_I, beside ΣP_IV, as the table leaves it
-    assert "ΣPIV" in abstract and f"ΣPVI = {found.group(1).split(' = ')[1]} (" in plain
-    assert f"і {found.group(2)} % від CI)" in plain
+    # the abstract names it after ΣP_IV, with its value and share, as negligible
+    assert "ΣPIV" in abstract
+    assert (
+        f"решта – ΣPVI = {found.group(1).split(' = ')[1]} ({found.group(2)} % від першого "
+        "порядку) – нехтовно мала" in plain
+    )
     assert abstract.count("ΣPVI") == 1
     from crankdyn_builtin.balancing.section import _negligible
 

@@ -133,12 +133,22 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     small = [s for s in _left_unbalanced(r, unbalanced) if _negligible(r, s)]
     residuals = _left_unbalanced(r, unbalanced)
     valued = residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals)
+    # the negligible residuals are not results of their own: named after the others, as such
+    big = (
+        [s for s in residuals if not _negligible(r, s)]
+        if small and len(small) < len(residuals)
+        else residuals
+    )
     if means and valued:
         # what the means leave, in one sentence: each residual with its value and share of C_I
-        finding = _left_after_means(t, r, residuals, "" if single else "Σ")
+        finding = _small_besides(
+            t, r, _left_after_means(t, r, big, "" if single else "Σ"), big, small, single
+        )
     elif valued and not single and any(s["balanced"] for s in r["summary"]):
         # no means: what the crank arrangement balances by itself, and what it leaves, with values
-        finding = _left_after_means(t, r, residuals, "Σ", scheme=True)
+        finding = _small_besides(
+            t, r, _left_after_means(t, r, big, "Σ", scheme=True), big, small, single
+        )
     elif small:  # the abstract names them too, as the table leaves them
         finding = t(
             "balancing.finding_negligible",
@@ -393,6 +403,29 @@ def _left_without_shafts(t, r, sign: str) -> list[tuple[str, str]]:
                 named = t.join_and([t("balancing.part_value", **values) for values in parts])
                 items.append((t(key, items=named), "many"))
     return items
+
+
+def _small_besides(t, r, finding: str, big, small, single: bool) -> str:
+    """``finding`` on the residuals ``big``, followed by the negligible ones (``small``) named as
+    the rest, negligible, where ``big`` left them out."""
+    if not small or any(s in big for s in small):
+        return finding
+    return t(
+        "balancing.finding_negligible_besides" + ("_one" if len(small) == 1 else ""),
+        finding=finding,
+        items=t.join_and(
+            f"{plain_symbol(s, '' if single else 'Σ')} = {_amplitude_text(t, r, s)}" for s in small
+        ),
+        share=_percent_text(t, small, r),
+    )
+
+
+def _amplitude_text(t, r, item) -> str:
+    """A residual's amplitude with its unit: "4,5 Н", "13,6 Н·м"."""
+    value, force = _summary_amplitude(r, item)
+    if force:
+        return f"{newtons(t, value)} {t('balancing.unit_N')}"
+    return f"{newton_metres(t, value)} {t('unit.Nm')}"
 
 
 def _left_after_means(
