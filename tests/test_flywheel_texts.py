@@ -298,3 +298,19 @@ def test_the_excess_work_figure_calls_the_torque_indicated_not_total():
         figures = shared_html("diesel-1cyl", changes, language).figures
         svg = next(f for f in figures if "excess_work" in f.name).svg.decode()
         assert words in svg and "суммарный" not in svg and "сумарний" not in svg
+
+
+def test_the_rims_stress_source_is_listed_only_where_a_rim_is_sized():
+    """The thin ring's hoop stress comes from Timoshenko: cited at the rim's stress, so a note
+    sizing no rim (an aircraft engine's propeller) does not list it among the section's sources."""
+    import re
+
+    from conftest import shared_html
+
+    def text(name):
+        return " ".join(re.sub(r"<[^>]+>", "", shared_html(name, None, "en").linked_html).split())
+
+    with_rim = text("inline4-petrol")
+    assert re.search(r"the hoop stress of a thin rotating ring \[\d+\] is σ", with_rim)
+    assert "Timoshenko S. Strength of Materials" in with_rim
+    assert "Timoshenko S. Strength of Materials" not in text("radial9-aircraft")

@@ -74,7 +74,8 @@ FLYWHEEL_STAGE = Stage(
         title_key="flywheel.title",
         render=render,
         figures=("excess_work",),
-        references=("poda2007", "artobolevsky1988", "khurmi2005", "timoshenko1956"),
+        # the rim's hoop stress cites its source where a rim is sized (timoshenko1956)
+        references=("poda2007", "artobolevsky1988", "khurmi2005"),
         symbols=SYMBOLS,
         input_rows=input_rows,
         taken_rows=taken_rows,
