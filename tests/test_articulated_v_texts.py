@@ -377,3 +377,21 @@ def test_a_radials_torque_period_names_its_one_master_cylinder():
     assert r["period_deg"] > r["period_even_firing_deg"]  # 720° against 80°
     assert "прицепные цилиндры отличаются от главного (" in text
     assert "отличаются от главных" not in text
+
+
+def test_a_v_engines_shaft_angle_is_counted_from_the_first_cylinders_tdc():
+    """The vector method's θ: the i-th cylinder reaches TDC at θ = ξ_i, ξ_1 = 0, so θ counts from
+    the first cylinder's TDC in a V as in an in-line engine (it was said to count "from the
+    vertical", which is 45° off in a 90° V). The method's own geometry of a 90° V-twin: ξ_1 = 0,
+    ξ_2 = 90°."""
+    import numpy as np
+
+    from conftest import V_TWIN_ENGINE, shared_html
+
+    from crankdyn.physics import balancing as bal
+
+    g = bal.geometry([0.0, 90.0], [0, 0], [0.0], bal.vertical_axis_deg("V", 90.0))
+    assert np.degrees(g.cylinder_phase_rad) == pytest.approx([0.0, 90.0])  # ξ_1 = 0, ξ_2 = 90°
+    text = shared_html("v8-petrol", {"engine": V_TWIN_ENGINE}, "en").linked_html
+    assert "crankshaft angle from the TDC of the first cylinder" in text
+    assert "measured from the vertical (that of the first crank)" not in text
