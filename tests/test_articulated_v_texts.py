@@ -385,7 +385,6 @@ def test_a_v_engines_shaft_angle_is_counted_from_the_first_cylinders_tdc():
     vertical", which is 45° off in a 90° V). The method's own geometry of a 90° V-twin: ξ_1 = 0,
     ξ_2 = 90°."""
     import numpy as np
-
     from conftest import V_TWIN_ENGINE, shared_html
 
     from crankdyn.physics import balancing as bal

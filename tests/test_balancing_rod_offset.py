@@ -168,9 +168,9 @@ def test_a_cross_plane_v8s_offset_couples_cancel_but_for_the_fourth_order():
 @pytest.mark.parametrize(
     ("language", "only", "left"),
     [
-        ("ru", "остаются лишь", "неуравновешенными остаются"),
-        ("uk", "залишаються лише", "незрівноваженими залишаються"),
-        ("en", "only", "remain unbalanced"),
+        ("ru", "остаётся лишь", "неуравновешенной остаётся"),
+        ("uk", "залишається лише", "незрівноваженою залишається"),
+        ("en", "only", "remains unbalanced"),
     ],
     ids=["ru", "uk", "en"],
 )
