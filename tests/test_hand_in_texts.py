@@ -1385,3 +1385,15 @@ def test_the_fullness_remark_names_the_excess_work_only_with_a_flywheel_section(
         re.sub(r"<[^>]+>", "", shared_html("v8-petrol", flywheel, "en", stages).linked_html)
     )
     assert "the mean torque and the excess work come out up to" in sized
+
+
+def test_sources_cited_together_share_one_bracket():
+    """ "[@kolchin2002; @blair1996]" in a catalog's text is "[6, 10]", as the standard cites
+    several sources, not "[6], [10]"; three in a row are a range; a source cited first here is
+    added to the list in the order cited; a single key keeps its page or figure."""
+    from crankdyn.report.document import cite_sources
+
+    references = ["a", "b"]
+    text = cite_sources("x [@a; @c]. y [@b, fig. 3]. z [@c; @d; @a; @b]", references)
+    assert text == "x [1, 3]. y [2, fig. 3]. z [1–4]"
+    assert references == ["a", "b", "c", "d"]

@@ -327,3 +327,16 @@ def test_only_a_spark_ignition_two_stroke_is_said_to_be_scavenged_by_its_crankca
     assert [key for key, _ in compression if key.startswith("forces.note_gauge")] == [
         "forces.note_gauge"
     ]
+
+
+def test_the_scavenging_pressures_sources_are_cited_in_one_bracket():
+    """The ports' gas exchange cites the textbook and Blair together: "[6, 10]", not "[6], [10]"."""
+    import re
+
+    from conftest import shared_html
+
+    text = " ".join(
+        re.sub(r"<[^>]+>", "", shared_html("two-stroke-1cyl", None, "ru").linked_html).split()
+    )
+    assert re.search(r"давлению продувки pa \[\d+, \d+\]\.", text)
+    assert not re.search(r"pa \[\d+\], \[\d+\]", text)

@@ -302,19 +302,27 @@ def cite(numbers) -> str:
 #: A source cited in a catalog's text by its key, "[@ismailov, fig. 3b]": the number the source
 #: has in the report's list of references takes its place ("[2, fig. 3b]").
 _CITED_KEY = re.compile(r"\[@([A-Za-z0-9_]+)")
+#: Several sources cited together, "[@kolchin2002; @blair1996]": one bracket of their numbers
+#: ("[6, 10]"), as the standard cites them.
+_CITED_KEYS = re.compile(r"\[@([A-Za-z0-9_]+(?:;\s*@[A-Za-z0-9_]+)+)\]")
 
 
 def cite_sources(text: str, references: list[str]) -> str:
-    """``text`` with each "[@key" of a source replaced by "[n" of its number; a source cited
-    here first is added to ``references`` (the list holds the sources the note cites, in the
-    order of their first citation)."""
+    """``text`` with each "[@key" of a source replaced by "[n" of its number, and each
+    "[@key; @other]" by one bracket of their numbers; a source cited here first is added to
+    ``references`` (the list holds the sources the note cites, in the order of their first
+    citation)."""
 
-    def number(match: re.Match) -> str:
-        if match.group(1) not in references:
-            references.append(match.group(1))
-        return f"[{references.index(match.group(1)) + 1}"
+    def numbered(key: str) -> int:
+        if key not in references:
+            references.append(key)
+        return references.index(key) + 1
 
-    return _CITED_KEY.sub(number, text)
+    def several(match: re.Match) -> str:
+        return cite([numbered(k.strip().lstrip("@")) for k in match.group(1).split(";")])
+
+    text = _CITED_KEYS.sub(several, text)
+    return _CITED_KEY.sub(lambda match: f"[{numbered(match.group(1))}", text)
 
 
 def plausibility_text(t, found, references: list[str], said: set) -> tuple[Markup, list[str]]:
