@@ -200,7 +200,9 @@ def _latin_words(document: str, scene_texts=()) -> list[str]:
     body = re.sub(r"<sub>[^<\s]{1,10}</sub>", " ", body)  # a longer index: m_{rR.гол}
     text = html_lib.unescape(re.sub(r"<[^>]+>", " ", body))
     text = re.sub(r"\[[a-z_.]+\]", " ", text)  # the scene's table names, e.g. [bearings]
-    return [w for w in re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text) if w not in ALLOWED_LATIN]
+    words = re.findall(r"(?<![\w])[A-Za-z]{2,}(?![\w])", text)
+    # an order's Roman numeral (a table's row "II") is a number, not a Latin word
+    return [w for w in words if w not in ALLOWED_LATIN and not re.fullmatch(r"[IVX]+", w)]
 
 
 def _check_hyphenation(text: str, title_page: str, language: str) -> None:

@@ -164,6 +164,11 @@ def _order_name(o):
     return Markup("<i>C</i>" if o["order"] == 0 else "<i>P</i><sub>" + o["name"][1:] + "</sub>")
 
 
+def _order_label(o):
+    """A row of an engine's resultants: its order as a Roman numeral, C for the rotating masses."""
+    return Markup("<i>C</i>" if o["order"] == 0 else o["name"][1:])
+
+
 def _zero(r, o, kind) -> bool:
     """Whether an order's force or moment coefficient is nil (below rounding for all cylinders)."""
     return o[f"{kind}_coefficient"] <= NEGLIGIBLE * len(r["cylinder_labels"])
@@ -174,7 +179,14 @@ def _force_columns(ctx, r, single: bool) -> list[tuple]:
     motion."""
     t, orders = ctx.t, r["orders"]
     columns = [
-        (t("balancing.order"), [_order_name(o) for o in orders], None),
+        # one cylinder's own forces by their symbols; an engine's resultants (of forces and of
+        # moments alike) by their order, C for the rotating masses' (the symbol list's P_ν is one
+        # cylinder's force)
+        (
+            t("balancing.order" if single else "balancing.order_heading"),
+            [_order_name(o) if single else _order_label(o) for o in orders],
+            None,
+        ),
         # in words: P and M alone name other quantities in this section (the bay model's P)
         # one cylinder's largest force is C_ν itself in every order: no ratio to tabulate
         *(
