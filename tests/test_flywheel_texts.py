@@ -314,3 +314,31 @@ def test_the_rims_stress_source_is_listed_only_where_a_rim_is_sized():
     assert re.search(r"the hoop stress of a thin rotating ring \[\d+\] is σ", with_rim)
     assert "Timoshenko S. Strength of Materials" in with_rim
     assert "Timoshenko S. Strength of Materials" not in text("radial9-aircraft")
+
+
+@pytest.mark.parametrize(
+    ("application", "said"),
+    [
+        (None, "із заданим маховиком 0,2 кг·м² коефіцієнт нерівномірності обертання δ = "),
+        (
+            "aircraft",
+            "із заданим моментом інерції повітряного гвинта 0,2 кг·м² коефіцієнт нерівномірності "
+            "обертання δ = ",
+        ),
+    ],
+)
+def test_a_given_flywheel_is_not_a_result_of_the_abstract(application, said):
+    """The abstract's results: δ with the flywheel (or the propeller) the assignment gives, not
+    its moment of inertia as if the calculation had found it."""
+    import re
+
+    from conftest import shared_html
+
+    changes = {"flywheel": {"inertia": "0.2 kg*m^2", "required_irregularity": 0.01}}
+    if application:
+        changes["engine"] = {"application": application}
+    html = shared_html("inline4-petrol", changes, "uk").linked_html
+    abstract = re.search(r'<section class="abstract".*?</section>', html, re.S).group(0)
+    abstract = " ".join(re.sub(r"<[^>]+>", "", abstract).replace("\u202f", " ").split())
+    assert said in abstract, abstract
+    assert "момент інерції маховика 0,2" not in abstract

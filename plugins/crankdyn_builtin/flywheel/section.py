@@ -258,8 +258,12 @@ def _conclude(ctx, r: dict) -> None:
         return
     ctx.find(
         t(
-            "flywheel.finding",
-            flywheel=ctx.num(r["flywheel_inertia_kg_m2"]),
+            # a given flywheel (or propeller) is no result: δ with it is
+            "flywheel.finding" + ("_given" if r["flywheel_given"] else ""),
+            # a given value as given (0,2, not 0,2000)
+            flywheel=ctx.t.number_g(r["flywheel_inertia_kg_m2"])
+            if r["flywheel_given"]
+            else ctx.num(r["flywheel_inertia_kg_m2"]),
             delta=ctx.num(r["irregularity"], 3),
         )
     )
