@@ -1120,3 +1120,24 @@ def test_rods_side_by_side_are_told_each_bearings_width_and_the_pins_length():
     area, width, pin = (float(g.replace(" ", "")) for g in found.groups())
     assert width == pytest.approx(area / 36, rel=2e-3) and pin == pytest.approx(2 * width, rel=2e-3)
     assert "the crank pin needs a projected area" not in text
+
+
+def test_the_rolling_bearings_life_check_names_its_letters_apart_from_the_notes_others():
+    """The life check of a small two-stroke's rolling bearings: the mean over k angles (n is the
+    speed), the dynamic load rating C_r (C is the centrifugal force), and P_m, L_10 and C_r in
+    the list of symbols."""
+    from conftest import shared_html
+
+    html = shared_html("two-stroke-1cyl", None, "ru").linked_html
+    text = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    assert "/k)3/⁠10 по k углам цикла" in text or "/k)3/\u206010 по k углам цикла" in text
+    assert "(Cr/Pm)" in text.replace("\u2060", "")
+    rows = [
+        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
+    ]
+    for start in (
+        "Pm – средняя эквивалентная нагрузка",
+        "Cr – динамическая грузоподъёмность",
+        "L10 – номинальная долговечность",
+    ):
+        assert any(row.startswith(start) for row in rows), start

@@ -535,6 +535,11 @@ SYMBOLS = {
     "journal_load_second": Symbol(
         "R", {"en": "1–2"}, "unit.MPa", html="<b><i>R</i></b><sub>1–2</sub>"
     ),
+    # a rolling bearing's life check (where the supports are usually rolling bearings)
+    "rolling_mean_load": Symbol("P", {"en": "m"}, "unit.kN"),
+    "rolling_angles": Symbol("k", {}, ""),
+    "rolling_load_rating": Symbol("C", {"en": "r"}, "unit.kN"),
+    "rolling_life": Symbol("L", {"en": "10"}, ""),
 }
 
 
