@@ -160,3 +160,17 @@ def test_an_order_left_unbalanced_is_said_so_whatever_its_gender():
         assert not any(
             "оставлено неуравновешенным" in c or "залишено незрівноваженим" in c for c in cells
         )
+
+
+def test_the_means_angles_are_counted_from_the_pistons_tdc():
+    """A piston is at TDC, not a cylinder: "углы отсчитаны … когда поршень в ВМТ"."""
+    import re
+
+    from conftest import shared_html
+
+    for language, said in (("ru", "когда поршень в ВМТ"), ("uk", "коли поршень у ВМТ")):
+        text = " ".join(
+            re.sub(r"<[^>]+>", "", shared_html("petrol-1cyl", None, language).linked_html).split()
+        )
+        assert said in text
+        assert "положении цилиндра в ВМТ" not in text and "коли циліндр у ВМТ" not in text
