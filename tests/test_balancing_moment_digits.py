@@ -43,6 +43,8 @@ def test_the_sixth_order_moment_has_the_same_digits_in_the_table_and_the_conclus
     assert 0.01 < moment < 1  # tenths would print it as 0,0 or 0,1
     printed = f"{moment:.2g}".replace(".", ",")
     section = note.section("balancing")
-    row = section[section.index("P VI 0,0000") :]
-    assert row.split()[5] == printed  # the moment column of the row of order VI
+    # the resultants' table: its rows named by the order, "VI", then the force's ratio and value
+    row = section[section.index(" II 0,0000") :]
+    row = row[row.index(" VI 0,0000") :]
+    assert row.split()[4] == printed  # the moment column of the row of order VI
     assert f"Σ M VI = {printed} Н·м" in note.conclusions

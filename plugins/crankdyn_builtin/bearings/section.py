@@ -537,7 +537,7 @@ SYMBOLS = {
     ),
     # a rolling bearing's life check (where the supports are usually rolling bearings)
     "rolling_mean_load": Symbol("P", {"en": "m"}, "unit.kN"),
-    "rolling_angles": Symbol("k", {}, ""),
+    "rolling_angles": Symbol("n", {"en": "α"}, ""),
     "rolling_load_rating": Symbol("C", {"en": "r"}, "unit.kN"),
     "rolling_life": Symbol("L", {"en": "10"}, ""),
 }
