@@ -1645,3 +1645,18 @@ def test_a_counter_rotating_vector_turned_back_over_the_other_is_named_on_the_ot
     assert np.dot(f_at, b_at) < 0  # on opposite sides of the common line
     f_at, b_at = offsets(0.5 + 0.0j, 0.4 + 0.0j)
     assert np.dot(f_at, b_at) < 0  # f on the left of the line, b on the right
+
+
+def test_an_order_tables_roman_numeral_one_is_upright_as_its_others():
+    """The resultants' table names its rows C, I, II …: the Roman numeral I stays upright, as II
+    and IV do (a cell of one letter is otherwise a symbol, set in italics: the criteria z, t)."""
+    from crankdyn.report.typeset import typeset_html
+
+    html = typeset_html(
+        '<table><tr><td class="text">I</td><td class="text">II</td><td class="text">z</td></tr></table>',
+        "uk",
+        [],
+    )
+    assert '<td class="text">I</td><td class="text">II</td><td class="text"><i>z</i></td>' in html
+    page = shared_html("inline4-petrol", None, "uk", ("balancing",)).linked_html
+    assert '<td class="text">I</td>' in page and '<td class="text"><i>I</i></td>' not in page

@@ -1155,6 +1155,7 @@ def typeset_html(
             not inline
             and language in _ITALIC_PROSE_LANGUAGES
             and _ONE_LETTER.fullmatch(part)
+            and part != "I"  # the Roman numeral of an order's row, as in prose (_LETTER_BEFORE)
             and parts[i - 1].startswith("<td")
         ):
             parts[i] = f"<i>{part}</i>"  # a table cell that is a symbol (the criteria z, t, q)
