@@ -147,13 +147,13 @@ def test_a_russian_note_numbers_its_pages_at_the_bottom_centre():
 
 def test_an_order_left_unbalanced_is_said_so_whatever_its_gender():
     """The balancing summary's means column: "P_II | оставлено неуравновешенным" agreed with
-    neither the force (она) nor the moment (он); "не уравновешивается" fits both, as "не
-    зрівноважується" does in Ukrainian."""
+    neither the force (она) nor the moment (он), and "не уравновешивается" read as if it could
+    not be; "средств не предусмотрено" fits both, as "засобів не передбачено" in Ukrainian."""
     import re
 
     from conftest import shared_html
 
-    for language, words in (("ru", "не уравновешивается"), ("uk", "не зрівноважується")):
+    for language, words in (("ru", "средств не предусмотрено"), ("uk", "засобів не передбачено")):
         html = shared_html("inline4-petrol", None, language, ("balancing",)).linked_html
         cells = re.findall(r'<td class="text">([^<]*)</td>', html)
         assert any(c.startswith(words) for c in cells)
