@@ -342,3 +342,26 @@ def test_a_given_flywheel_is_not_a_result_of_the_abstract(application, said):
     abstract = " ".join(re.sub(r"<[^>]+>", "", abstract).replace("\u202f", " ").split())
     assert said in abstract, abstract
     assert "момент інерції маховика 0,2" not in abstract
+
+
+def test_a_large_irregularity_at_a_lower_speed_is_said_to_be_beyond_the_energy_method():
+    """δ = ΔL/(Jω²) takes the speed's swing small beside its mean: at a quarter of the speed an
+    in-line four with [δ] = 0.05 would have δ = 0.31, which the note gives with the remark that it
+    lies beyond the method; [δ] = 0.01 keeps every value small and gets no remark."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    def text(required):
+        changes = {"flywheel": {"required_irregularity": required}}
+        html = shared_html("inline4-petrol", changes, "en", ("flywheel",)).linked_html
+        rows = shared_run("inline4-petrol", changes, ("flywheel",)).outputs["flywheel"].results
+        return " ".join(re.sub(r"<[^>]+>", "", html).split()), rows["lower_speeds"]
+
+    large, rows = text(0.05)
+    largest = max(row["irregularity"] for row in rows)
+    assert largest > 0.25
+    assert "Values of δ this large (up to 0.309) lie outside the energy method" in large
+    small, rows = text(0.01)
+    assert max(row["irregularity"] for row in rows) < 0.25
+    assert "lie outside the energy method" not in small
