@@ -337,6 +337,14 @@ def vehicle_low_speed(scene, r: dict) -> dict | None:
     return rows[-1]
 
 
+def _regime_suffix(application) -> str:
+    """The ending of the given speed's caveat: a stationary engine runs at that speed; a
+    vehicle's says why its flywheel is chosen at lower speeds in a sentence of its own."""
+    if application == "stationary":
+        return "_stationary"
+    return "_carrier" if application in FLYWHEEL_CARRIERS else ""
+
+
 def _conclude_not_needed(ctx, r) -> None:
     """The abstract's and the conclusions' words where the engine's own inertia meets [δ]: no
     flywheel is designed, none is reported."""
@@ -354,8 +362,7 @@ def _conclude_not_needed(ctx, r) -> None:
         )
         + " "
         + t(
-            "flywheel.rated_regime_only"
-            + ("_stationary" if ctx.scene.engine.application == "stationary" else ""),
+            "flywheel.rated_regime_only" + _regime_suffix(ctx.scene.engine.application),
             rpm=t.number_g(ctx.scene.engine.rpm, 5),
         )
         + (
