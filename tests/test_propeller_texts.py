@@ -65,3 +65,24 @@ def test_an_aircraft_engines_note_calls_its_propeller_no_flywheel(language):
     rest = re.sub(said["remark"], "", re.sub(said["explained"], "", text))
     left = [rest[max(0, m.start() - 80) : m.end() + 40] for m in FLYWHEEL.finditer(rest)]
     assert not left, left
+
+
+def test_a_raised_propellers_inertia_is_not_called_a_flywheels():
+    """An aircraft engine whose exact solution raises the propeller's inertia: the section says
+    the propeller (not a flywheel) has to supply it and was raised, with no rim to size."""
+    import re
+
+    from conftest import shared_html, shared_run
+
+    changes = {
+        "engine": {"application": "aircraft"},
+        "flywheel": {"required_irregularity": 0.005},
+    }
+    r = shared_run("inline4-petrol", changes, ("flywheel",)).outputs["flywheel"].results
+    assert r["flywheel_raised"]
+    html = shared_html("inline4-petrol", changes, "uk", ("flywheel",)).linked_html
+    section = re.search(r'data-stage="flywheel">.*?</section>', html, re.S).group(0)
+    text = " ".join(re.sub(r"<[^>]+>", "", section).split())
+    assert "з якого повітряний гвинт за енергетичним методом має дати" in text
+    assert "Тому момент інерції повітряного гвинта збільшено на" in text
+    assert "з цим маховиком" not in text and "момент інерції маховика збільшено" not in text
