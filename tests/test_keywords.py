@@ -135,3 +135,27 @@ def test_the_abstract_aim_lists_the_sections_the_note_holds():
         titles = re.findall(r"<h2>\d+ ([^<]+)</h2>", html)
         assert aim.split("; ") == [t[0].lower() + t[1:] for t in titles[1:]], (aim, titles)
         assert all(p in aim for p in present) and not any(a in aim for a in absent), aim
+
+
+def test_the_key_words_name_the_kind_of_engine():
+    """A radial aircraft engine's key words say so ("ЗВЕЗДООБРАЗНЫЙ ДВИГАТЕЛЬ, АВИАЦИОННЫЙ
+    ПОРШНЕВОЙ ДВИГАТЕЛЬ") after the mechanism; an in-line engine's add no layout."""
+    import re
+
+    from conftest import shared_html
+
+    def key_words(name, language):
+        html = shared_html(name, None, language).linked_html
+        abstract = re.search(r'<section class="abstract">(.*?)</section>', html, flags=re.S).group(
+            1
+        )
+        return re.sub(r"<[^>]+>", "", abstract)
+
+    radial = key_words("radial9-aircraft", "ru")
+    assert "ЗВЕЗДООБРАЗНЫЙ ДВИГАТЕЛЬ, АВИАЦИОННЫЙ ПОРШНЕВОЙ ДВИГАТЕЛЬ" in radial
+    assert "V-ПОДІБНИЙ ДВИГУН" in key_words("v8-petrol", "uk")
+    inline = key_words("inline4-petrol", "en")
+    assert (
+        "RADIAL ENGINE" not in inline
+        and " ENGINE, " not in inline.split("INTERNAL COMBUSTION ENGINE")[-1]
+    )

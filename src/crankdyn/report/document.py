@@ -854,11 +854,28 @@ def _abstract_parts(t, registry, scene, sections) -> dict:
     motion = "" if getattr(scene, "cycle", None) is not None else "_kinematics"
     return {
         "keywords": keywords(
-            t, mechanism_key(scene.engine, t), catalogs, motion, _meaning_forms(scene)
+            t,
+            mechanism_key(scene.engine, t),
+            catalogs,
+            motion,
+            _meaning_forms(scene),
+            engine_keywords(scene, t),
         ),
         "aim": "; ".join(_lower_first(v.title) for v in sections[1:]),
         "introduction_aim": introduction_aim(t, catalogs, motion),
     }
+
+
+def engine_keywords(scene, t) -> tuple[str, ...]:
+    """The key words that name the kind of engine where the mechanism's do not: its layout (a V,
+    a boxer, a radial: ``doc.keyword_layout_<layout>``) and an aircraft engine's use."""
+    engine = scene.engine
+    words = []
+    if engine.cylinders > 1 and t.has(f"doc.keyword_layout_{engine.layout}"):
+        words.append(t(f"doc.keyword_layout_{engine.layout}"))
+    if getattr(engine, "application", None) == "aircraft":
+        words.append(t("doc.keyword_aircraft"))
+    return tuple(words)
 
 
 def introduction_aim(t, stages: list[str], motion: str = "") -> str:
@@ -901,7 +918,12 @@ def mechanism_key(engine, t) -> str:
 
 
 def keywords(
-    t, mechanism: str, stages: list[str], motion: str = "", forms: tuple[str, ...] = ()
+    t,
+    mechanism: str,
+    stages: list[str],
+    motion: str = "",
+    forms: tuple[str, ...] = (),
+    engine: tuple[str, ...] = (),
 ) -> str:
     """The abstract's key words, upper case, for what this report holds: the calculation and the
     engine (``doc.keyword_general``, comma-separated), the mechanism (its description in the
@@ -910,10 +932,12 @@ def keywords(
     kinematics alone has five; a mechanism without a working cycle is named by its kinematic
     analysis (``motion`` "_kinematics"), not by an engine's dynamic calculation. A section's
     words for the engine's ``forms`` come first (``<section>.keywords_<form>``: an aircraft
-    engine's propeller where another has a flywheel)."""
+    engine's propeller where another has a flywheel). ``engine``: the words that name the kind of
+    engine, after the mechanism (:func:`engine_keywords`)."""
     words = [w.strip() for w in t(f"doc.keyword_general{motion}").split(",")]
     if t.has(f"mechanism.{mechanism}"):
         words.append(t(f"mechanism.{mechanism}").split(":", 1)[0])
+    words += list(engine)
     for stage in stages:
         key = next(
             (f"{stage}.keywords_{form}" for form in forms if t.has(f"{stage}.keywords_{form}")),
