@@ -57,3 +57,25 @@ def test_ukrainian_words_take_the_typographic_apostrophe():
     ]
     assert (ROOT / "templates" / "i18n" / "uk.toml").exists()
     assert not straight, "\n".join(straight)
+
+
+def test_ukrainian_moments_pulse_in_a_plane_with_the_euphonic_preposition():
+    """ "ΣM_I і ΣM_II пульсують у вертикальній площині": between two consonants Ukrainian writes
+    "у", after a vowel "в" ("ΣM_II пульсує в …")."""
+    import re
+
+    from conftest import shared_html
+
+    text = " ".join(
+        re.sub(
+            r"<[^>]+>",
+            "",
+            shared_html(
+                "inline4-petrol",
+                {"engine": {"cylinders": 5, "firing_order": None}},
+                "uk",
+                ("balancing",),
+            ).linked_html,
+        ).split()
+    )
+    assert "пульсують у " in text and "пульсують в " not in text
