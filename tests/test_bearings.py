@@ -1141,3 +1141,15 @@ def test_the_rolling_bearings_life_check_names_its_letters_apart_from_the_notes_
         "L10 – номинальная долговечность",
     ):
         assert any(row.startswith(start) for row in rows), start
+
+
+def test_the_unrolled_diagrams_axis_names_the_journal_drawn():
+    """The unrolled diagrams' y axis names the journal drawn, |R_1–2|, as its legend does, not
+    the general |R_i,i+1| (an in-line four)."""
+    from conftest import shared_html
+
+    figures = shared_html("inline4-petrol", None, "uk").figures
+    svg = next(f for f in figures if "unrolled" in f.name).svg.decode()
+    r = shared_run("inline4-petrol", None, ("bearings",)).outputs["bearings"].results
+    name = r["main_journals"][r["drawn_journals"][0] - 1]["journal"].replace("-", "–")
+    assert f"R_{{\\mathrm{{{name}}}}}" in svg and "i,i+1" not in svg

@@ -374,13 +374,9 @@ def _unrolled_drawing(t, cycle_deg, f, r, angle, single: bool):
             label=t("bearings.journal_label", label=label),
         )
     crank_angle_axis(ax, cycle_deg, t("axis.crank_angle"))
-    # the equations' symbols: a one-crank shaft's journals by name (0–1, 1–2), not crank i's
+    # the equations' symbols of the journals drawn, by name (0–1, 1–2), not the general R_{i,i+1}
     names = [journal_name(r["main_journals"][j - 1]) for j in r["drawn_journals"]]
-    journal = (
-        ", ".join(f"|R_{{{name}}}|" for name in names)
-        if len(r["main_journals"]) == 2 and names
-        else "|R_{i,i+1}|"
-    )
+    journal = ", ".join(f"|R_{{{name}}}|" for name in names) if names else "|R_{i,i+1}|"
     ax.set_ylabel(f"|q_pin|, {journal}, " + t("unit.MPa"))
     ax.legend(loc="upper right", fontsize=8)
     return fig
