@@ -187,8 +187,8 @@ def _force_columns(ctx, r, single: bool) -> list[tuple]:
             [_order_name(o) if single else _order_label(o) for o in orders],
             None,
         ),
-        # in words: P and M alone name other quantities in this section (the bay model's P)
-        # one cylinder's largest force is C_ν itself in every order: no ratio to tabulate
+        # one cylinder's largest force is C_ν itself in every order: no ratio to tabulate; the
+        # headers in words: P and M alone name other quantities in this section (the bay model's P)
         *(
             []
             if single

@@ -534,11 +534,11 @@ def _articulated_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
 
 
 def taken_rows(scene, ctx) -> list[tuple[str, str, str, str]]:
-    """The crankshaft's main supports and the articulated rods' values the calculation takes where the scene gives none, for the
-    table of the values taken: the knuckle pins' angles γ_1 (each slave cylinder's axis angle),
-    the slave rods' lengths (for equal compression ratios, or the textbook's L − r), the slave
-    rod's centre of mass and a knuckle pin of no mass (it enters m_R). A shaft of several cranks
-    is taken with a main support between neighbouring cranks and at both ends."""
+    """The values the calculation takes where the scene gives none, for the table of the values
+    taken: a shaft of several cranks has a main support between neighbouring cranks and at both
+    ends; articulated rods' knuckle pins' angles γ_1 (each slave cylinder's axis angle), the
+    slave rods' lengths (for equal compression ratios, or the textbook's L − r), the slave rod's
+    centre of mass and a knuckle pin of no mass (it enters m_R)."""
     try:
         layout = engine_layout(scene)
     except SceneError:  # refused where the stages run, with its own message
