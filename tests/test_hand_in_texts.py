@@ -719,8 +719,8 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     # the abstract names it after ΣP_IV, with its value and share, as negligible
     assert "ΣPIV" in abstract
     assert (
-        f"решта – ΣPVI = {found.group(1).split(' = ')[1]} ({found.group(2)} % від першого "
-        "порядку) – нехтовно мала" in plain
+        f"а також ΣPVI = {found.group(1).split(' = ')[1]} – нехтовно мала величина "
+        f"({found.group(2)} % від першого порядку)" in plain
     )
     assert abstract.count("ΣPVI") == 1
     from crankdyn_builtin.balancing.section import _negligible

@@ -101,8 +101,8 @@ def test_the_abstract_names_the_balancing_and_the_flywheel():
     # one sentence: each residual with its value and its share of C_I, the negligible one last
     found = re.search(
         r"після встановлення засобів зрівноваження з сил інерції та їхніх моментів незрівноваженою "
-        r"залишається лише ΣPIV = ([\d,]+) Н \(([\d,]+) % від CI\); решта – ΣPVI = ([\d,]+) Н "
-        r"\(([\d,]+) % від першого порядку\) – нехтовно мала",
+        r"залишається ΣPIV = ([\d,]+) Н \(([\d,]+) % від CI\), а також ΣPVI = ([\d,]+) Н – "
+        r"нехтовно мала величина \(([\d,]+) % від першого порядку\)",
         plain,
     )
     assert found, abstract

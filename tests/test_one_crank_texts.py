@@ -243,8 +243,8 @@ def test_the_abstract_names_what_the_means_leave_in_one_sentence():
     abstract = _plain(_part("radial", '<section class="abstract"', "</section>"))
     found = re.search(
         r"после установки средств уравновешивания неуравновешенной остаётся "
-        r"ΣPIV = ([\d,]+) Н \(([\d,]+) % от CI\); остальное – ΣPVI = ([\d,]+) Н "
-        r"\(([\d,]+) % от первого порядка\) – пренебрежимо мало",
+        r"ΣPIV = ([\d,]+) Н \(([\d,]+) % от CI\), а также ΣPVI = ([\d,]+) Н – пренебрежимо "
+        r"малая величина \(([\d,]+) % от первого порядка\)",
         abstract,
     )
     assert found, abstract

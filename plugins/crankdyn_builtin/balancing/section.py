@@ -142,7 +142,12 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     if means and valued:
         # what the means leave, in one sentence: each residual with its value and share of C_I
         finding = _small_besides(
-            t, r, _left_after_means(t, r, big, "" if single else "Σ"), big, small, single
+            t,
+            r,
+            _left_after_means(t, r, big, "" if single else "Σ", rest=big is not residuals),
+            big,
+            small,
+            single,
         )
     elif valued and not single and any(s["balanced"] for s in r["summary"]):
         # no means: what the crank arrangement balances by itself, and what it leaves, with values
@@ -429,12 +434,19 @@ def _amplitude_text(t, r, item) -> str:
 
 
 def _left_after_means(
-    t, r, residuals, sign: str, scheme: bool = False, negligible_said: bool = False
+    t,
+    r,
+    residuals,
+    sign: str,
+    scheme: bool = False,
+    negligible_said: bool = False,
+    rest: bool = False,
 ) -> str:
     """ "after the means, only ΣP_IV = 81 Н and ΣP_VI = 1,8 Н (1,4 % and 0,03 % of C_I) stay
     unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence;
     with ``scheme`` (no means) what the crank arrangement balances comes first;
-    ``negligible_said``: the negligible residuals, named before, are left out (not "only")."""
+    ``negligible_said``: the negligible residuals, named before, are left out (not "only");
+    ``rest``: the negligible ones follow (:func:`_small_besides`), so these are not "the only"."""
     items, shares, scales = [], [], []
     for item in residuals:
         value, force = _summary_amplitude(r, item)
@@ -471,14 +483,18 @@ def _left_after_means(
     # what the slave cylinders or the rods' offset along the pin also leave follows: these are
     # not the only residuals then
     more = bool(r.get("parts_left") or rod_offset_items(t, r))
-    key = "balancing.finding_left_means" + (
-        "_parts"
-        if more
-        else "_negligible"
-        if negligible_said
-        else "_plane"
-        if forces_only(t, r)
-        else ""
+    key = (
+        "balancing.finding_left_means"
+        + (
+            "_parts"
+            if more
+            else "_negligible"
+            if negligible_said
+            else "_plane"
+            if forces_only(t, r)
+            else ""
+        )
+        + ("_rest" if rest and not (more or negligible_said) else "")
     )
     return t(key, count=len(items) + len(chosen), items=listed)
 
