@@ -987,7 +987,7 @@ def test_the_conclusions_say_what_the_balancing_means_leave_with_values():
     text = as_read(re.sub(r"<[^>]+>", "", conclusions))
     assert re.search(
         r"Средства уравновешивания: [^\n]*\. После установки средств уравновешивания, кроме "
-        r"пренебрежимо малых, названных выше, неуравновешенной остаётся "
+        r"названной выше пренебрежимо малой величины, неуравновешенной остаётся "
         r"ΣMIV = \d+,\d Н·м \(",
         text.replace("\u202f", " "),
     ), text[:3000]

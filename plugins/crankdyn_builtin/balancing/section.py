@@ -84,7 +84,7 @@ def _conclude(ctx, r, left_without_means: str, no_shafts: str) -> None:
         residuals = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
         if residuals and all(_summary_amplitude(r, s)[0] is not None for s in residuals):
             # what the means leave, with values: the conclusions said only what they balance
-            said = any(_negligible(r, s) for s in _left_unbalanced(r, unbalanced))
+            said = sum(1 for s in _left_unbalanced(r, unbalanced) if _negligible(r, s))
             left = _left_after_means(t, r, residuals, "" if single else "Σ", negligible_said=said)
             if mass_difference_items(t, r):  # not "only ΣP_IV": the slaves' parts follow
                 left += t("balancing.left_also_slave_parts")
@@ -439,13 +439,13 @@ def _left_after_means(
     residuals,
     sign: str,
     scheme: bool = False,
-    negligible_said: bool = False,
+    negligible_said: int = 0,
     rest: bool = False,
 ) -> str:
     """ "after the means, only ΣP_IV = 81 Н and ΣP_VI = 1,8 Н (1,4 % and 0,03 % of C_I) stay
     unbalanced": the values and their shares of C_I (of C_I·a for a moment), in one sentence;
     with ``scheme`` (no means) what the crank arrangement balances comes first;
-    ``negligible_said``: the negligible residuals, named before, are left out (not "only");
+    ``negligible_said``: how many negligible residuals, named before, are left out (not "only");
     ``rest``: the negligible ones follow (:func:`_small_besides`), so these are not "the only"."""
     items, shares, scales = [], [], []
     for item in residuals:
@@ -488,7 +488,7 @@ def _left_after_means(
         + (
             "_parts"
             if more
-            else "_negligible"
+            else "_negligible" + ("_one" if negligible_said == 1 else "")
             if negligible_said
             else "_plane"
             if forces_only(t, r)
