@@ -168,7 +168,7 @@ def test_the_means_angles_are_counted_from_the_pistons_tdc():
 
     from conftest import shared_html
 
-    for language, said in (("ru", "когда поршень в ВМТ"), ("uk", "коли поршень у ВМТ")):
+    for language, said in (("ru", "вращения, когда поршень в ВМТ"), ("uk", "коли поршень у ВМТ")):
         text = " ".join(
             re.sub(r"<[^>]+>", "", shared_html("petrol-1cyl", None, language).linked_html).split()
         )
