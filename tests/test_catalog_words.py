@@ -79,3 +79,16 @@ def test_ukrainian_moments_pulse_in_a_plane_with_the_euphonic_preposition():
         ).split()
     )
     assert "пульсують у " in text and "пульсують в " not in text
+
+
+def test_ukrainian_texts_write_privid_not_the_russian_privod():
+    """The noun "привід" (a drive) in Ukrainian; "привод" is the Russian word (its other forms,
+    "приводів", "приводного", are Ukrainian too)."""
+    files = [ROOT / "templates" / "i18n" / "uk.toml", *ROOT.glob("plugins/*/*/i18n/*.uk.toml")]
+    russian = [
+        f"{path.relative_to(ROOT)}: {key}"
+        for path in files
+        for key, text in _texts(tomllib.loads(path.read_text(encoding="utf-8")))
+        if re.search(r"\bпривод\b", text)
+    ]
+    assert not russian, "\n".join(russian)
