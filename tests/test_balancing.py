@@ -1661,3 +1661,23 @@ def test_an_order_tables_roman_numeral_one_is_upright_as_its_others():
     assert '<td class="text">I</td><td class="text">II</td><td class="text"><i>z</i></td>' in html
     page = shared_html("inline4-petrol", None, "uk", ("balancing",)).linked_html
     assert '<td class="text">I</td>' in page and '<td class="text"><i>I</i></td>' not in page
+
+
+def test_a_means_table_of_counterweights_alone_gives_no_speed_column():
+    """Counterweights turn with the shaft: with no balance shaft the means table's speed column
+    would read +1 in every row; it is left out, and kept where shafts turn at other speeds."""
+    import re
+
+    from conftest import shared_run
+
+    def means_table(name, changes=None):
+        html = shared_html(name, changes, "en", ("balancing",)).linked_html
+        caption = re.search(
+            r"<caption>Table \d+\.\d+ . (?:Counterweights|Balance shafts?)[^<]*</caption>", html
+        )
+        return html[caption.start() : html.index("</table>", caption.start())]
+
+    r = shared_run("v8-petrol", None, ("balancing",)).outputs["balancing"].results
+    assert r["counterweights"] and not r["balance_shafts"]
+    assert "multiples of ω" not in means_table("v8-petrol")
+    assert "multiples of ω" in means_table("inline4-petrol")  # Lanchester's shafts at 2ω

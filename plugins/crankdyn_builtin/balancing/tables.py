@@ -478,7 +478,12 @@ def _means_table(ctx, r):
         return None
     columns = [
         (t("balancing.means"), [x[0] for x in means_rows], None),
-        (t("balancing.speed_ratio"), [x[1] for x in means_rows], None),
+        # counterweights alone turn with the shaft: a speed of +1 in every row says nothing
+        *(
+            [(t("balancing.speed_ratio"), [x[1] for x in means_rows], None)]
+            if r["balance_shafts"]
+            else []
+        ),
         (
             t("balancing.static_moment") + ", " + t("balancing.unit_kg_mm"),
             [x[2] for x in means_rows],
