@@ -1153,3 +1153,16 @@ def test_the_unrolled_diagrams_axis_names_the_journal_drawn():
     r = shared_run("inline4-petrol", None, ("bearings",)).outputs["bearings"].results
     name = r["main_journals"][r["drawn_journals"][0] - 1]["journal"].replace("-", "–")
     assert f"R_{{\\mathrm{{{name}}}}}" in svg and "i,i+1" not in svg
+
+
+def test_the_abstract_gives_the_crank_pins_load_with_the_tables_digits():
+    """ "найбільше навантаження на шатунну шийку 9,00 кН" in the abstract, as the crank pins'
+    table and the conclusions print it (it gave 9,000)."""
+    from conftest import shared_html, shared_run
+
+    r = shared_run("petrol-1cyl", None, ("bearings",)).outputs["bearings"].results
+    pin = r["crank_pins"][r["drawn_pins"][0] - 1]
+    html = shared_html("petrol-1cyl", None, "uk").linked_html
+    abstract = re.search(r'<section class="abstract".*?</section>', html, re.S).group(0)
+    printed = f"{pin['max_N'] / 1e3:.2f}".replace(".", ",")
+    assert f"найбільше навантаження на шатунну шийку {printed}" in abstract.replace("\u202f", " ")

@@ -363,7 +363,8 @@ def _conclude(ctx, r, single: bool, pins_equal: bool, journals_table_number) -> 
     pressures and oil holes, with the digits the tables print."""
     t = ctx.t
     pin = r["crank_pins"][r["drawn_pins"][0] - 1]
-    ctx.find(t("bearings.finding", q_max=ctx.num(pin["max_N"] / 1e3)))
+    # the digits of the crank pins' table, as the conclusion gives them
+    ctx.find(t("bearings.finding", q_max=t.fixed(pin["max_N"] / 1e3, 2)))
     rolling = _rolling_supports(ctx.scene)
     if rolling:  # said before the plain-bearing verdicts, which it makes a guide only
         ctx.conclude(t("bearings.conclusion_" + rolling, **_rolling_loads(ctx, r)))
