@@ -337,3 +337,23 @@ def test_a_letter_two_stages_declare_alike_is_listed_once_and_one_they_declare_a
     ]
     axes = [r for r in rows if r.startswith("ez –")]
     assert len(axes) == 2 and all(re.search(r"\(у розділі \d+\)$", r) for r in axes)
+
+
+def test_the_dangerous_combinations_criteria_are_all_in_the_list():
+    """The table of the most dangerous load combinations names z_max and z_min beside t_max,
+    t_min and q_max: the list of symbols gives them all."""
+    import re
+
+    from conftest import shared_html
+
+    html = shared_html("inline4-petrol", None, "uk").linked_html
+    rows = [
+        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
+    ]
+    for start in (
+        "zmax – найбільша за цикл питома радіальна сила",
+        "zmin – найменша",
+        "tmax – ",
+        "qmax – ",
+    ):
+        assert any(row.startswith(start) for row in rows), start

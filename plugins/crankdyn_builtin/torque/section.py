@@ -321,4 +321,7 @@ def _conclude_crank_load(ctx, r, table_number) -> None:
 SYMBOLS = {
     # a main journal's running torque as a specific tangential force (table B.4's criterion)
     "journal_running": Symbol("t", {"en": "k"}, "unit.MPa"),
+    # the most dangerous combinations' criteria beside t_max, t_min and q_max (the core's)
+    "radial_max": Symbol("z", {"en": "max"}, "unit.MPa"),
+    "radial_min": Symbol("z", {"en": "min"}, "unit.MPa"),
 }
