@@ -7,6 +7,7 @@ import functools
 import gc
 import json
 import os
+import re
 import subprocess
 import sys
 import tomllib
@@ -295,6 +296,13 @@ def formula_as_read(html: str) -> str:
     html = re.sub(r'<span class="eq-carry">[^<]*</span>', "", html)
     html = html.replace('<br class="eq-break">', " ")
     return re.sub(_EQ_PART, lambda m: m.group(1), html)
+
+
+def symbol_rows(html: str) -> list[str]:
+    """The list of symbols' rows of a report, as read ("e<sub>z</sub> – …" → "ez – …")."""
+    return [
+        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'<p class="symbol-row">(.*?)</p>', html)
+    ]
 
 
 def as_read(html: str) -> str:

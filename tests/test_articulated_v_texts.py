@@ -399,14 +399,13 @@ def test_a_v_engines_shaft_angle_is_counted_from_the_first_cylinders_tdc():
 def test_the_pins_centrifugal_force_is_the_master_rods_with_its_slaves_shares():
     """Only the master rod acts on the crank pin of articulated rods: c_r is the centrifugal force
     of its rotating part with the slave rods' shares, not "of all the rods on the pin"."""
-    import re
 
     from conftest import shared_html
 
     html = shared_html("radial9-aircraft", None, "ru").linked_html
-    rows = [
-        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
-    ]
+    from conftest import symbol_rows
+
+    rows = symbol_rows(html)
     said = [row for row in rows if row.startswith("cr – ")]
     assert said and said[0].startswith(
         "cr – удельная центробежная сила вращающейся части главного шатуна с долями прицепных"

@@ -1132,9 +1132,9 @@ def test_the_rolling_bearings_life_check_names_its_letters_apart_from_the_notes_
     text = " ".join(re.sub(r"<[^>]+>", "", html).split())
     assert "/nα)3/10 по nα углам цикла" in text.replace("\u2060", "")
     assert "(Cr/Pm)" in text.replace("\u2060", "")
-    rows = [
-        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
-    ]
+    from conftest import symbol_rows
+
+    rows = symbol_rows(html)
     for start in (
         "Pm – средняя эквивалентная нагрузка",
         "Cr – динамическая грузоподъёмность",

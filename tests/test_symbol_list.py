@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 
 import pytest
+from conftest import symbol_rows
 
 from crankdyn.plugin.registry import default_registry
 from crankdyn.report import document
@@ -23,9 +24,7 @@ def symbol_list_html(keys, t, language, abbreviations=True, places=None, single=
 
 
 def _rows(html: str) -> list[str]:
-    return [
-        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'<p class="symbol-row">(.*?)</p>', html)
-    ]
+    return symbol_rows(html)
 
 
 def test_a_letter_with_several_meanings_names_the_sections_of_each_sectioned_meaning():
@@ -329,9 +328,7 @@ def test_a_letter_two_stages_declare_alike_is_listed_once_and_one_they_declare_a
     from conftest import shared_html
 
     html = shared_html("offset-crank-engine", None, "uk").linked_html
-    rows = [
-        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
-    ]
+    rows = _rows(html)
     assert [r for r in rows if r.startswith("φ –")] == [
         "φ – кут повороту кривошипа від напрямку осі циліндра, °"
     ]
@@ -342,14 +339,11 @@ def test_a_letter_two_stages_declare_alike_is_listed_once_and_one_they_declare_a
 def test_the_dangerous_combinations_criteria_are_all_in_the_list():
     """The table of the most dangerous load combinations names z_max and z_min beside t_max,
     t_min and q_max: the list of symbols gives them all."""
-    import re
 
     from conftest import shared_html
 
     html = shared_html("inline4-petrol", None, "uk").linked_html
-    rows = [
-        re.sub(r"<[^>]+>", "", row) for row in re.findall(r'class="symbol-row">(.*?)</p>', html)
-    ]
+    rows = _rows(html)
     for start in (
         "zmax – найбільша за цикл питома радіальна сила",
         "zmin – найменша",
