@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
-from conftest import modified, shared_run
+from conftest import as_read, modified, shared_html, shared_run
 
 import crankdyn.plugin_types as plugin_types
 from crankdyn.cli import examples_dir
@@ -541,3 +542,21 @@ def test_sorted_distinct_equals_numpy_unique():
         values = np.round(rng.uniform(0.0, 720.0, rng.integers(0, 60)), rng.integers(0, 3))
         values = np.concatenate([values, values[: rng.integers(0, 5)]])  # repeated knots
         assert np.array_equal(reference._sorted_distinct(values), np.unique(values))
+
+
+@pytest.mark.parametrize(
+    ("kinematics", "said"),
+    [
+        ("exact", "Piston kinematics: exact closed forms (no truncation error)."),
+        ("approximate", "Piston kinematics: the textbook two-term series [1, eq. 9–11]"),
+    ],
+)
+def test_the_appendix_states_the_piston_kinematics_method_once(kinematics, said):
+    """The appendix of numerical parameters names the kinematics the mechanism's own stage used,
+    once: the stage's note says it (with its source), the appendix's opening sentence does not
+    say it again."""
+    html = shared_html("petrol-1cyl", {"analysis": {"kinematics": kinematics}}).html
+    text = re.sub(r"<[^>]+>", "", as_read(html))
+    appendix = text[text.rindex("Numerical parameters of the calculation and accuracy checks") :]
+    assert appendix.count("Piston kinematics") == 1
+    assert said in appendix
