@@ -227,3 +227,43 @@ def test_without_the_moment_of_inertia_the_two_mass_model_is_reported_alone():
         _run(
             "offset-crank-engine", {"masses": {"rod_moment_of_inertia": None}}
         )  # the example asks for three_mass
+
+
+@pytest.mark.parametrize(
+    ("name", "changes", "language", "expected", "forces"),
+    [
+        (
+            "offset-crank-engine",
+            {},
+            "uk",
+            "У розділі {n} цей момент обчислено за тримасовою моделлю. Сили і крутний момент "
+            "обчислено за двомасовою моделлю посібника, тож цієї різниці вони не містять.",
+            True,
+        ),
+        (
+            "planetary-kinematics",
+            {"rod_dynamics": {"model": "correction_couple"}},
+            "ru",
+            "В разделе {n} этот момент вычислен по двухмассовой модели с корректирующим моментом.",
+            False,
+        ),
+    ],
+)
+def test_a_rod_model_of_the_section_alone_is_concluded_with_its_section(
+    name, changes, language, expected, forces
+):
+    """A model other than the two-mass one is the rod dynamics section's own: the conclusion
+    names that section by its number and the model in the sentence's case, and says that the
+    forces and the torque keep the two-mass split only where the run computed them (a planetary
+    mechanism without a cycle has none)."""
+    import re
+
+    from crankdyn.report.document import render_html
+
+    html = render_html(_run(name, changes), REGISTRY, language).html
+    number = re.search(r'data-stage="rod_dynamics"[^>]*>\s*<h2[^>]*>(\d+)', html)
+    assert number, "the rod dynamics section has a number"
+    conclusions = html[html.rindex('class="conclusions"') :]
+    assert expected.format(n=number.group(1)) in re.sub(r"<[^>]+>", "", conclusions)
+    assert ("двомасовою моделлю посібника" in conclusions) is forces
+    assert "У цьому розділі" not in conclusions and "В этом разделе" not in conclusions

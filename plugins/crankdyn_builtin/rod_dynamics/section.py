@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from functools import partial
 
+from crankdyn.plugin.contracts import FORCES
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.report.context import sample_rows
 from crankdyn.report.typeset import symbol_html
@@ -41,6 +42,30 @@ def _columns(t, g, labels, exact: bool) -> list:
     return columns
 
 
+def _conclusion(ctx, r) -> str:
+    """The conclusion on the rod's inertia couple and on the two-mass split's error; a model
+    other than the two-mass one is this section's alone: the forces and the torque, where the
+    run computed them, keep the two-mass split."""
+    t = ctx.t
+    numbers = {
+        "couple": ctx.num(r["inertia_couple_max_Nm"]),
+        "difference": ctx.num(r["torque_difference_max_abs_Nm"]),
+        "relative": ctx.num(r["torque_difference_relative"] * 100.0, 3),
+    }
+    if r["model"] == "two_mass":
+        return t("rod_dynamics.conclusion", model=t("rod_dynamics.model_two_mass"), **numbers)
+    text = t(
+        "rod_dynamics.conclusion_apart",
+        number=ctx.section_number,
+        by_model=t("rod_dynamics.model_by_" + r["model"]),
+        **numbers,
+    )
+    if ctx.data(FORCES) is None:
+        return text
+    single = getattr(ctx.scene.engine, "cylinders", 1) == 1
+    return text + " " + t("rod_dynamics.conclusion_apart_forces" + ("_single" if single else ""))
+
+
 def render(output: StageOutput, ctx) -> str:
     t = ctx.t
     f = output.tables.arrays("rod_dynamics")
@@ -73,16 +98,7 @@ def render(output: StageOutput, ctx) -> str:
     )
 
     if exact:
-        ctx.conclude(
-            t(
-                # another model than the two-mass one is this section's: the forces keep theirs
-                "rod_dynamics.conclusion" + ("" if r["model"] == "two_mass" else "_apart"),
-                couple=ctx.num(r["inertia_couple_max_Nm"]),
-                difference=ctx.num(r["torque_difference_max_abs_Nm"]),
-                relative=ctx.num(r["torque_difference_relative"] * 100.0, 3),
-                model=t("rod_dynamics.model_" + r["model"]),
-            )
-        )
+        ctx.conclude(_conclusion(ctx, r))
     else:
         ctx.conclude(
             t(
