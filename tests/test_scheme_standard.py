@@ -47,6 +47,12 @@ ENGINES = {
     ),
     "inline4": ("inline4-petrol", {}),
     "offset": ("offset-crank-engine", {}),
+    # a long stroke and rod under a narrow bore: a panel as tall as a figure allows, narrower
+    # than half the text width
+    "tall-single": (
+        "diesel-1cyl",
+        {"engine": {"bore": "105 mm", "stroke": "120 mm", "rod_length": "215 mm"}},
+    ),
 }
 
 
@@ -340,3 +346,18 @@ def test_no_letter_stands_on_a_piston(engine):
         for piston in pistons:
             assert not _overlap(corners[[0, 1, 3, 2]], piston), name
             assert not mpl_path.Path(piston).contains_points(centre).any(), name
+
+
+@pytest.mark.parametrize("engine", ["tall-single", "inline4", "v8", "radial9", "offset"])
+def test_a_position_panel_is_drawn_at_the_scale_its_caption_names(engine):
+    """A millimetre of the mechanism is the scale's millimetres of paper in every panel, also
+    where the panel is narrower than half the text width (its height bound by the figure's):
+    its width follows from its limits at that scale, not from its shape alone."""
+    positions = _drawing(engine).artifacts["positions"]
+    scale = md.positions_scale(positions)
+    fig = md.positions_figure(positions, [(k, f"position {k}") for k in range(2)])
+    fig.dpi = 72.0
+    for ax in fig.axes:
+        (x0, y0), (x1, y1) = ax.transData.transform([(0.0, 0.0), (100.0, 100.0)])
+        paper_mm = np.array([x1 - x0, y1 - y0]) / 72.0 * MM_PER_INCH
+        assert paper_mm == pytest.approx([100.0 * scale, 100.0 * scale], rel=1e-9)

@@ -2905,11 +2905,9 @@ def positions_layout(geometry, count: int) -> tuple[int, int]:
     text width (less for a mechanism so tall that half the text width would make a panel higher
     than a figure may be), as high as the mechanism at its standard scale; as many rows as the
     figure's height holds."""
-    (x0, x1), (y0, y1) = _panel_limits(_panel_geometry(geometry))
-    aspect = (y1 - y0) / (x1 - x0)
+    width, height = _panel_size_mm(_panel_geometry(geometry))
     cols = max(min(count, 2), 1)
-    width = _panel_width_mm(aspect)
-    rows = max(1, int(FIGURE_HEIGHT_MM // (width * aspect + _title_mm(aspect))))
+    rows = max(1, int(FIGURE_HEIGHT_MM // (height + _title_mm(height / width))))
     return cols, cols * rows
 
 
@@ -2940,6 +2938,14 @@ def _content_limits(geometry):
     return _limits(
         geometry, label_gap=0.1 if labelled else 0.045, pad_share=0.04, pad_share_y=0.015
     )
+
+
+def _panel_size_mm(panel_geometry) -> tuple[float, float]:
+    """(width, height) of a positions panel on paper (mm): its limits (:func:`_panel_limits`)
+    at its standard scale, so that a millimetre of the mechanism is drawn as the scale says."""
+    (x0, x1), (y0, y1) = _panel_limits(panel_geometry)
+    scale = _panel_scale(panel_geometry)
+    return (x1 - x0) * scale, (y1 - y0) * scale
 
 
 def positions_scale(geometry) -> float:
@@ -2988,12 +2994,10 @@ def positions_figure(geometry, frames: list[tuple[int, str]]):
 
     geometry = _panel_geometry(geometry)
     limits = _panel_limits(geometry)
-    aspect = (limits[1][1] - limits[1][0]) / (limits[0][1] - limits[0][0])
+    width, height = _panel_size_mm(geometry)
     cols, _ = positions_layout(geometry, len(frames))
-    width = _panel_width_mm(aspect)
-    height = width * aspect
     rows = -(-len(frames) // cols)
-    row_mm = height + _title_mm(aspect)
+    row_mm = height + _title_mm(height / width)
     fig = new_drawing(width * cols, row_mm * rows)
     for k, (i, caption) in enumerate(frames):
         row, col = divmod(k, cols)
