@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 import pytest
@@ -328,3 +329,31 @@ def test_the_worked_irregularity_divides_by_the_mean_speed_the_text_prints():
     assert worked.group(2) == stated, (worked.group(0), stated)
     quotient = float(worked.group(1)) / float(worked.group(2))
     assert quotient == pytest.approx(float(worked.group(3)), abs=0.6 * 10 ** (-6))
+
+
+def test_the_energy_methods_offset_from_the_exact_speed_is_explained_with_its_size():
+    """The speed figure's energy-method curve is centred on (ω_max + ω_min)/2 = πn/30, the exact
+    solution's time mean is πn/30: the section says how far apart the two lie (the exact
+    solution's time mean less its mid-range) and why, in the figure's own number."""
+    import html as html_lib
+    import re
+
+    from conftest import shared_html
+
+    result = shared_run("inline4-petrol")
+    r = result.outputs["speed_fluctuation"].results
+    offset = r["omega_mean_rad_s"] - 0.5 * (r["omega_max_rad_s"] + r["omega_min_rad_s"])
+    assert r["omega_mean_rad_s"] == pytest.approx(math.pi * 5600 / 30)  # the given speed
+    page = shared_html("inline4-petrol").linked_html
+    text = " ".join(html_lib.unescape(re.sub(r"<[^>]+>", "", page)).split())
+    said = re.search(
+        r"In figure (\d+\.\d+) the energy method's curve lies about ([\d.]+) rad/\u2060?s (above|below)",
+        text,
+    )
+    assert said, "the offset is explained"
+    assert float(said.group(2)) == pytest.approx(abs(offset), abs=0.006)
+    assert said.group(3) == ("above" if offset > 0 else "below")
+    figure = re.search(
+        r'<figure data-number="' + re.escape(said.group(1)) + r'">.*?</figure>', page, re.S
+    )
+    assert figure and "speed" in figure.group(0)

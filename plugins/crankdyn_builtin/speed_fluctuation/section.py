@@ -23,6 +23,23 @@ ADOPTED_DELTA_DIGITS = 3
 EXACT_DELTA_DIGITS = 4
 
 
+def _energy_offset_text(ctx, r, number: str) -> str | None:
+    """Why the energy method's speed curve lies above or below the exact one in the speed
+    figure: it is centred on (ω_max + ω_min)/2 = πn/30, the exact solution's time mean Φ/T is
+    πn/30; None where the offset does not show in the speeds' printed digits."""
+    omega_n = r["omega_mean_rad_s"]
+    offset = omega_n - 0.5 * (r["omega_max_rad_s"] + r["omega_min_rad_s"])
+    digits = speed_digits(r["omega_max_rad_s"], r["omega_min_rad_s"])
+    if ctx.num(omega_n, digits) == ctx.num(omega_n - offset, digits):
+        return None
+    return ctx.t(
+        "speed_fluctuation.energy_offset_" + ("above" if offset > 0 else "below"),
+        number=number,
+        offset=ctx.num(abs(offset), 2),
+        omega_n=ctx.num(omega_n, digits),
+    )
+
+
 def _course_digits(ctx, exact: float, energy: float, digits: int, most: int) -> int:
     """``digits`` if the exact and the energy method's δ print differently with them, else
     ``most`` (the digits that show their difference)."""
@@ -84,6 +101,7 @@ def render(output: StageOutput, ctx) -> str:
     # a course note gives the results; the solvers' comparison is the full report's study
     course = ctx.scene is not None and ctx.scene.report.detail == "course"
     figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
+    energy_offset = _energy_offset_text(ctx, r, ctx.last_figure_number)
     table_single = figure_single = None
     if not course:
         table_single = _solver_table(
@@ -150,6 +168,7 @@ def render(output: StageOutput, ctx) -> str:
         flywheel_difference=_printed_difference_percent(r),
         sci=lambda value: _sci(value, t.decimal_separator),
         figure_speed=figure_speed,
+        energy_offset=energy_offset,
         table_single=table_single,
         figure_single=figure_single,
         worked=worked_speed_fluctuation(ctx, r),
