@@ -131,3 +131,45 @@ def test_counterweights_on_other_cranks_leave_a_journal_loaded_by_its_neighbours
     page = shared_html("inline3-petrol", five, "en", ("balancing", "bearings")).linked_html
     text = " ".join(re.sub(r"<[^>]+>", "", page).split())
     assert "carries chiefly the centrifugal forces of the cranks beside it" in text
+
+
+@pytest.mark.parametrize(
+    "ignition, pressures, key",
+    [
+        ("spark", [(11.9, 19.9), (5.0, 8.0)], None),
+        ("spark", [(3.0, 15.0), (12.5, 9.0)], "bearings.plausibility_main_pressure_spark"),
+        ("diesel", [(8.0, 44.0)], "bearings.plausibility_main_pressure_diesel"),
+    ],
+)
+def test_main_bearings_above_the_allowable_pressures_are_warned_of_on_the_console(
+    ignition, pressures, key
+):
+    """As a crank pin's: the console names the journal, its pressures, the allowable ones and the
+    projected area needed; the report's section and conclusions word it themselves (their
+    texts of the warning are empty)."""
+    from crankdyn.report.i18n import translator
+    from crankdyn_builtin.bearings.compute import _main_pressure
+
+    found = _main_pressure(_scene(ignition), _journals(*pressures))
+    if key is None:
+        assert found == []
+        return
+    [(got, params)] = found
+    assert got == key
+    worst = max(pressures, key=lambda p: p[0])
+    assert (params["p_mean"], params["journal"]) == (
+        worst[0],
+        f"{pressures.index(worst)}-{pressures.index(worst) + 1}",
+    )
+    assert params["area_needed"] == pytest.approx(
+        main_pressure_verdict(_scene(ignition), _journals(*pressures))["area_needed_m2"] * 1e6
+    )
+    t = translator("en", default_catalogs())
+    assert t(key, **params).startswith("Plausibility warning: main-bearing pressure")
+    assert t(key + "_section", **params) == "" and t(key + "_conclusion", **params) == ""
+
+
+def default_catalogs():
+    from crankdyn.plugin.registry import default_registry
+
+    return default_registry().catalogs

@@ -144,6 +144,29 @@ def _journals_fit(scene, results=None) -> list[tuple[str, dict]]:
     return [("bearings.plausibility_journals_fit" + ("_assumed" if assumed else ""), params)]
 
 
+def _main_pressure(scene, results=None) -> list[tuple[str, dict]]:
+    """The most loaded main bearing's mean and largest pressure against the allowable ones of
+    the engine's kind, on the console (``crankdyn check``, ``report``) as the crank pin's are;
+    the section and the conclusions word the verdict themselves (:func:`main_pressure_verdict`)."""
+    verdict = main_pressure_verdict(scene, results or {})
+    if verdict is None or not verdict["exceeded"]:
+        return []
+    sizes = (results or {}).get("dimensions") or {}
+    assumed = bool(
+        {"main_journal_diameter", "main_journal_width"} & set(sizes.get("defaulted", ()))
+    )
+    params = {
+        "journal": verdict["mean_journal"]["journal"],
+        "p_mean": float(verdict["p_mean"]),
+        "p_max": float(verdict["p_max"]),
+        "mean_limit": verdict["mean_limit"],
+        "max_limit": verdict["max_limit"],
+        "area_needed": verdict["area_needed_m2"] * 1e6,
+    }
+    key = "bearings.plausibility_main_pressure_" + verdict["kind"] + ("_assumed" if assumed else "")
+    return [(key, params)]
+
+
 def pin_pressure_within_limits(scene, results) -> dict | None:
     """The most loaded big-end bearing's mean and largest pressure, MPa, with the allowable ones
     of its kind of engine (``kind``: spark or diesel), where both are within them; None where

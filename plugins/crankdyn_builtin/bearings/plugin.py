@@ -15,7 +15,7 @@ from crankdyn.plugin.contracts import BAY_LOADS, COUNTERWEIGHTS, CRANK_LOADS, FO
 from crankdyn.plugin.hooks import hookimpl
 from crankdyn.plugin.types import Catalog, PlausibilityRule, Stage, StagePresentation
 
-from .compute import _journals_fit, _pin_pressure, applies, run
+from .compute import _journals_fit, _main_pressure, _pin_pressure, applies, run
 from .options import BearingOptions
 from .section import SYMBOLS, input_rows, render, taken_rows
 
@@ -33,6 +33,7 @@ BEARINGS_STAGE = Stage(
     plausibility=(
         PlausibilityRule("pin_pressure", _pin_pressure),
         PlausibilityRule("journals_fit", _journals_fit),
+        PlausibilityRule("main_pressure", _main_pressure),
     ),
     options_table="bearings",
     options_model=BearingOptions,
