@@ -78,3 +78,23 @@ def test_the_explanations_of_a_where_list_start_in_one_column(language, word):
     wrapped = [b for b in boxes if "rod length" in b[0]]
     assert len({round(b[3]) for b in wrapped}) > 1  # the long explanation wraps ...
     assert min(b[1] for b in wrapped[1:]) >= symbols[0][1] - 0.5  # ... under its own column
+
+
+@pytest.mark.parametrize("css_class", ["skipped", "plausibility", "check-ok", "note"])
+def test_a_sentence_paragraph_of_a_section_starts_with_the_paragraph_indent(css_class):
+    """A paragraph of running text that carries a class (what the note leaves out, a
+    plausibility verdict, a check) starts indented as the section's plain paragraphs do."""
+    words = " ".join(["word"] * 40)
+    body = (
+        f'<section class="chapter"><p>Plain {words}</p>'
+        f'<p class="{css_class}">Classed {words}</p></section>'
+    )
+    _, boxes = _boxes(body)
+    first_x = {
+        text.split()[0]: left
+        for text, left, _, _ in boxes
+        if text.split()[0] in ("Plain", "Classed")
+    }
+    lines_x = sorted({round(left, 1) for _, left, _, _ in boxes})
+    assert first_x["Plain"] > lines_x[0]  # the plain paragraph is indented
+    assert first_x["Classed"] == pytest.approx(first_x["Plain"])

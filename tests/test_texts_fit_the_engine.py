@@ -126,14 +126,19 @@ def test_a_rotating_free_moment_of_a_higher_order_is_said_to_turn_at_that_speed(
     assert "Σ M C turns with the shaft at a constant size" in text
 
 
-def test_a_rod_model_other_than_the_forces_one_is_said_to_be_this_sections_own():
-    """The forces and the total torque keep the textbook's two-mass split whatever rod model the
-    rod-dynamics section takes: its conclusion must not say that the calculation used another."""
+def test_a_rod_model_other_than_the_forces_one_is_said_to_be_its_sections_own():
+    """The forces and the torque keep the textbook's two-mass split whatever rod model the
+    rod-dynamics section takes: its conclusion must not say that the calculation used another,
+    and says the forces keep the split only where they were computed."""
     inertia = {"masses": {"rod_moment_of_inertia": "0.02 kg m^2"}}
     three = {**inertia, "rod_dynamics": {"model": "three_mass"}}
-    text = _text("diesel-1cyl", three, "en", ("rod_dynamics",))
-    assert "the forces and the total torque keep the textbook's two-mass split" in text
+    text = _text("diesel-1cyl", three, "en", ("rod_dynamics", "forces"))
+    assert "gives that torque by the three-mass model" in text
+    assert "The forces and the torque keep the textbook's two-mass split" in text
     assert "the calculation uses" not in text
+    alone = _text("diesel-1cyl", three, "en", ("rod_dynamics",))
+    assert "gives that torque by the three-mass model" in alone
+    assert "keep the textbook's two-mass split" not in alone
     two = _text("diesel-1cyl", inertia, "en", ("rod_dynamics",))
     assert "the calculation uses the textbook's two-mass split" in two
 
@@ -335,3 +340,21 @@ def test_the_full_support_shaft_the_calculation_takes_is_in_the_table_of_values_
         in taken
     )
     assert "Main supports of the crankshaft" not in _text("petrol-1cyl", None, "en", ("bays",))
+
+
+def test_a_part_of_table_b3_without_the_torque_names_the_table_that_has_it():
+    """An in-line five's table B.3 is set in two parts (cranks 1–4 and 5 with the torque M_d):
+    both have the rows at M_d's extremes, and the first, which has no column of M_d, says in
+    which table M_d is."""
+    text = _text("inline4-petrol", INLINE_FIVE, "en", ("torque",))
+    notes = [
+        re.split(r"\. (?:For|The) ", text[m.start() :], maxsplit=1)[0]
+        for m in re.finditer(r"Note\. Besides the rows every 30°", text)
+    ]
+    notes = [n for n in notes if "M d" in n]
+    assert len(notes) == 2, notes
+    first, second = notes
+    part = re.search(r"Table (\d+\.\d+) — Forces and running torques on crank 5\b", text)
+    assert part, "the second part holds crank 5 and the torque"
+    assert first.count(f"(table {part.group(1)})") == 2  # both extremes: largest and least
+    assert "(table" not in second

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import partial
 
 from markupsafe import Markup
@@ -159,6 +160,13 @@ def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
     t = ctx.t
     tables = []
     per_table = 4
+    # the torque's extremes are its own rows: a part without its column names the part with it
+    section, before = ctx.last_table_number.split(".")
+    torque_number = f"{section}.{int(before) + -(-cranks // per_table)}"
+    elsewhere = [
+        replace(e, what=t("torque.extreme_in_table", what=e.what, number=torque_number))
+        for e in extremes
+    ]
     for start in range(0, cranks, per_table):
         chunk = (
             [columns[0]] + columns[1 + 4 * start : 1 + 4 * min(start + per_table, cranks)]
@@ -185,7 +193,7 @@ def _b3_tables(ctx, columns: list, cranks: int, extremes) -> list:
                 chunk,
                 caption=t(caption, first=start + 1, last=min(start + per_table, cranks)),
                 css_class="data wide",
-                extremes=extremes,
+                extremes=extremes if with_torque else elsewhere,
                 see=see,
             )
         )
