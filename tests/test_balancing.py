@@ -1293,7 +1293,7 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
 
     every = {"balancing": {"counterweights": "every_crank"}}
     ru = text(every, "ru")
-    assert "Средства уравновешивания: восемь противовесов на щеках каждого колена и два" in ru
+    assert "Средства уравновешивания: по два противовеса на щеках каждого колена (всего 8) и два" in ru
     assert "Противовесы (центр масс на радиусе" in ru
     assert "и уравновешивающие валы (центр масс на радиусе" in ru
     # the counterweights on every crank balance no free force here: the shafts balance ΣP_II
@@ -1305,7 +1305,10 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
     assert text(every, "en").count(said) == 2
     internal = {"balancing": {"counterweights": "every_crank", "balance_orders": []}}
     en = text(internal, "en")
-    assert "The balancing means: eight counterweights on the webs of every crank. " in en
+    assert "The balancing means: two counterweights on the webs of every crank (8 in all). " in en
+    # each crank's counterweights cancel that crank's forces: no couple of the end cranks'
+    assert "each crank's counterweights cancel that crank's own forces" in en
+    assert "form a couple that cancels the moments of both" not in en
     assert "they balance ." not in en and "The counterweights change none of the engine" in en
     v8 = " ".join(
         re.sub(

@@ -576,11 +576,20 @@ def _counterweights_means(t, r) -> str:
     cranks = [str(cw["crank"]) for cw in counterweights]
     if len(r["crank_directions_deg"]) == 1:
         where = t("balancing.webs_single_crank")
-    elif len(set(cranks)) == len(r["crank_directions_deg"]) and len(cranks) > 2:
+    elif counterweights_on_every_crank(r):
+        if bodies == 2 * len(cranks):  # "two on the webs of every crank (10 in all)", not "10 on"
+            return t("balancing.means_counterweights_two_every", n=bodies)
         where = t("balancing.webs_every_crank")
     else:
         where = t("balancing.webs_cranks", k=len(cranks), labels=t.join_and(cranks))
     return t("balancing.means_counterweights_webs", n=bodies, cranks=where)
+
+
+def counterweights_on_every_crank(r) -> bool:
+    """Whether counterweights sit on the webs of every crank of a shaft of three or more cranks
+    (each crank's own forces cancelled where they act, not by a couple of the end cranks')."""
+    cranks = {cw["crank"] for cw in r.get("counterweights") or ()}
+    return len(r["crank_directions_deg"]) > 2 and len(cranks) == len(r["crank_directions_deg"])
 
 
 def counterweight_bodies(counterweights: list[dict]) -> int:
@@ -924,6 +933,7 @@ def render(output: StageOutput, ctx) -> str | None:
     return ctx.render_template(
         "sections/balancing.html.j2",
         r=r,
+        every_crank=counterweights_on_every_crank(r),
         star=star,
         masses_table=masses_table,
         models_figure=models_figure,
