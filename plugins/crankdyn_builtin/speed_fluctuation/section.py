@@ -93,34 +93,11 @@ def _chain_end(torsion) -> dict:
     return {"bare": no_flywheel(torsion), "last": last_crank(torsion)}
 
 
-def render(output: StageOutput, ctx) -> str:
-    """The section: the speed over the cycle and the single-mass solver study, then the torsional
-    model when the scene has one, and the conclusions."""
+def _conclude(ctx, r, course: bool) -> tuple[int, bool, str | None]:
+    """Conclude on δ (a course note with the flywheel section's digits) and on a δ above [δ];
+    (δ's significant digits, whether the exact and the energy method's δ print alike, the
+    sentence of a δ above [δ] or None)."""
     t = ctx.t
-    r = output.results
-    # a course note gives the results; the solvers' comparison is the full report's study
-    course = ctx.scene is not None and ctx.scene.report.detail == "course"
-    figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
-    energy_offset = _energy_offset_text(ctx, r, ctx.last_figure_number)
-    table_single = figure_single = None
-    if not course:
-        table_single = _solver_table(
-            ctx,
-            r["solvers"],
-            t("speed_fluctuation.single_table_caption"),
-            "speed_fluctuation.see_single_table",
-        )
-        figure_single = _error_figure(
-            ctx,
-            r["solvers"],
-            t("speed_fluctuation.single_figure_caption"),
-            "solvers_single",
-            "speed_fluctuation.see_single_figure",
-        )
-
-    torsion = r["torsion"]
-    ctx.title = None if torsion else t("speed_fluctuation.title_rigid")  # promise no torsion
-    parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
     digits = _digits_that_differ(r["irregularity_deviation_percent"] / 100)
     alike = False
     if course:  # δ from speeds that differ by under a percent: four digits are all it holds
@@ -153,6 +130,38 @@ def render(output: StageOutput, ctx) -> str:
         )
         if exceeds:
             ctx.conclude(exceeds)
+    return digits, alike, exceeds
+
+
+def render(output: StageOutput, ctx) -> str:
+    """The section: the speed over the cycle and the single-mass solver study, then the torsional
+    model when the scene has one, and the conclusions."""
+    t = ctx.t
+    r = output.results
+    # a course note gives the results; the solvers' comparison is the full report's study
+    course = ctx.scene is not None and ctx.scene.report.detail == "course"
+    figure_speed = _speed_figure(output.tables.arrays("speed_fluctuation"), r, ctx)
+    energy_offset = _energy_offset_text(ctx, r, ctx.last_figure_number)
+    table_single = figure_single = None
+    if not course:
+        table_single = _solver_table(
+            ctx,
+            r["solvers"],
+            t("speed_fluctuation.single_table_caption"),
+            "speed_fluctuation.see_single_table",
+        )
+        figure_single = _error_figure(
+            ctx,
+            r["solvers"],
+            t("speed_fluctuation.single_figure_caption"),
+            "solvers_single",
+            "speed_fluctuation.see_single_figure",
+        )
+
+    torsion = r["torsion"]
+    ctx.title = None if torsion else t("speed_fluctuation.title_rigid")  # promise no torsion
+    parts = _torsion_parts(ctx, output, torsion, course) if torsion is not None else {}
+    digits, alike, exceeds = _conclude(ctx, r, course)
     return ctx.render_template(
         "sections/speed_fluctuation.html.j2",
         r=r,
