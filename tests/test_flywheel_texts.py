@@ -91,6 +91,11 @@ def test_a_driven_machines_flywheel_section_says_the_shaft_takes_work_in(tmp_pat
     assert "момент опору прийнято сталим" not in text
     assert re.search(r"ΔL становить [1-9]\d*(,\d+)? % індикаторної роботи двигуна за цикл", text)
     assert "Тут Mоп &lt; 0: машина споживає роботу" in text  # the constant torque drives it
+    # its conclusions give the torque largest in magnitude, its least, where it loads most
+    forces = result.outputs["forces"].results
+    assert -forces["torque_min_Nm"] > forces["torque_max_Nm"] > 0
+    least = f"{forces['torque_min_Nm']:.4g}".replace("-", "−").replace(".", ",")
+    assert f"Найбільший за модулем момент {least} Н·м" in text
 
 
 def test_a_given_flywheel_with_no_shaft_inertia_is_not_said_to_be_sized():

@@ -178,14 +178,16 @@ def _conclude(ctx, f, r, whose: str) -> None:
         ctx.scene is not None and ctx.scene.engine.cylinders == 1
     ):  # else the engine's torque: torque stage
         ctx.find(t("forces.finding", mean=ctx.num(r["mean_torque_Nm"])))
+    # a driven machine (a compressor: negative mean torque) is loaded most by its least torque
+    peak = "max" if r["mean_torque_Nm"] >= 0 or r["torque_max_Nm"] >= -r["torque_min_Nm"] else "min"
     ctx.conclude(
         t(
-            "forces.conclusion_torque" + whose,
+            "forces.conclusion_torque" + whose + ("" if peak == "max" else "_driven"),
             mean=ctx.num(r["mean_torque_Nm"]),
             from_work=ctx.num(r["mean_torque_from_work_Nm"]),
             deviation=ctx.num(r["mean_torque_deviation_percent"] or 0.0, 2),
-            t_max=ctx.num(r["torque_max_Nm"]),
-            t_angle=ctx.angle_text(r["torque_max_crank_angle_deg"]),
+            t_max=ctx.num(r[f"torque_{peak}_Nm"]),
+            t_angle=ctx.angle_text(r[f"torque_{peak}_crank_angle_deg"]),
         )
     )
     if r.get("mechanical_efficiency") is not None:  # a single cylinder given its N_e
