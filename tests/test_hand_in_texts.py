@@ -1397,3 +1397,15 @@ def test_sources_cited_together_share_one_bracket():
     text = cite_sources("x [@a; @c]. y [@b, fig. 3]. z [@c; @d; @a; @b]", references)
     assert text == "x [1, 3]. y [2, fig. 3]. z [1–4]"
     assert references == ["a", "b", "c", "d"]
+
+
+def test_a_lone_letter_stays_with_the_word_its_hyphen_opens():
+    """The title page broke "V-" | "образного": a capital Latin letter and a hyphen opening a
+    word are bound to it by a word joiner; other hyphens ("1–2", "a-b", "AB-C", "X-5") keep
+    their breaks."""
+    from crankdyn.report.typeset import unbreakable_html
+
+    html = unbreakable_html("<p>V-образного, W-подібного, V-twin; a-b, AB-C, X-5, 1-2</p>")
+    assert "V-\u2060образного, W-\u2060подібного, V-\u2060twin;" in html
+    assert "a-b, AB-C, X-5, 1-2" in html
+    assert unbreakable_html(html) == html

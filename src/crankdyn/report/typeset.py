@@ -1069,7 +1069,14 @@ _REFERENCE_NUMBER = re.compile(
 )
 
 
+#: A capital Latin letter and a hyphen opening a word ("V-образного", "W-подібного", "V-twin"):
+#: a line would otherwise end with the lone letter and its hyphen.
+_LETTER_HYPHEN = re.compile(r"(?<![\w-])([A-Z])-(?=[^\W\d_])")
+
+
 def _unbreakable(text: str) -> str:
+    if "-" in text:
+        text = _LETTER_HYPHEN.sub("\\1-" + WORD_JOINER, text)
     text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
     if "|" in text:
         text = _OPENING_BAR.sub("|" + WORD_JOINER, text)
@@ -1098,7 +1105,8 @@ _TAG = re.compile(r"(<[^>]+>)")
 
 def unbreakable_html(html: str) -> str:
     """The document with no line break between a quantity and its value ("p_z = 6 МПа") nor after
-    a slash inside a word or formula ("м/с²") or an absolute value's opening bar, in every text node (the last pass over the report:
+    a slash inside a word or formula ("м/с²"), an absolute value's opening bar or the hyphen of
+    "V-образный", in every text node (the last pass over the report:
     the equations' legends and the list of symbols included)."""
     parts = _TAG.split(html)
     skip = 0
@@ -1106,7 +1114,7 @@ def unbreakable_html(html: str) -> str:
         if i % 2 == 1:
             if part[1:2] in _SKIP_FIRST:  # most tags cannot open or close a skipped element
                 skip = _skip_depth(part, skip)
-        elif not skip and ("=" in part or "/" in part or ". " in part or "|" in part):
+        elif not skip and ("=" in part or "/" in part or ". " in part or "|" in part or "-" in part):
             parts[i] = _unbreakable(part)
     return "".join(parts)
 
