@@ -796,7 +796,7 @@ def test_a_flat_four_aircraft_engine_gets_no_second_order_shafts_and_says_where_
     assert re.search(r"неуравновешенными остаются ΣMII = \d+,\d\sН·м и ΣMIV = ", text)
     # the negligible ΣM_VI after them, as such
     assert re.search(
-        r", а также ΣMVI = [\d,]+\sН·м – пренебрежимо малая величина \([\d,]+\s% от первого порядка\)",
+        r", а также ΣMVI = [\d,]+\sН·м – пренебрежимо малая величина \([\d,]+\s% от CI·a\)",
         text,
     )
     # a free moment is left: the note no longer says that the cranks balance every one of them

@@ -720,7 +720,7 @@ def test_unbalanced_resultants_under_one_percent_of_c_i_are_called_negligible(re
     assert "ΣPIV" in abstract
     assert (
         f"а також ΣPVI = {found.group(1).split(' = ')[1]} – нехтовно мала величина "
-        f"({found.group(2)} % від першого порядку)" in plain
+        f"({found.group(2)} % від CI)" in plain
     )
     assert abstract.count("ΣPVI") == 1
     from crankdyn_builtin.balancing.section import _negligible

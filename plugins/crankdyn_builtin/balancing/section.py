@@ -26,6 +26,7 @@ from .tables import (
     coefficients_table,
     offset_couples,
     one_plane,
+    share_base,
 )
 from .vectors import NEGLIGIBLE
 
@@ -160,6 +161,7 @@ def _finding(t, r, unbalanced, single: bool) -> str:
             finding=finding,
             items=", ".join(plain_symbol(s, "" if single else "Σ") for s in small),
             share=_percent_text(t, small, r),
+            base=share_base(small),
         )
     shaft_items = _left_without_shafts(t, r, "" if single else "Σ")
     if shaft_items:  # what the shafts take, so the counterweights alone are judged too
@@ -422,6 +424,7 @@ def _small_besides(t, r, finding: str, big, small, single: bool) -> str:
             f"{plain_symbol(s, '' if single else 'Σ')} = {_amplitude_text(t, r, s)}" for s in small
         ),
         share=_percent_text(t, small, r),
+        base=share_base(small),
     )
 
 

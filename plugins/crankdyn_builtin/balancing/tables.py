@@ -420,6 +420,15 @@ def _percent_text(t, items, r) -> str:
     return t.number_g(100 * max(_share(r, item) for item in items), 2)
 
 
+def share_base(items) -> str:
+    """What the shares of :func:`_percent_text` are of: "C_I" (forces), "C_I·a" (moments) or
+    both, in the catalogs' symbol notation."""
+    moments = {item["quantity"].startswith("M_") for item in items}
+    return {frozenset({False}): "C_I", frozenset({True}): "C_I·a"}.get(
+        frozenset(moments), "C_I, C_I·a"
+    )
+
+
 def offset_couples(r) -> list[dict]:
     """The couples of rods side by side on one crank pin (records of ``rod_offset_couples``)
     that are not negligible (:data:`NEGLIGIBLE_SHARE` of C_I·b), by order; [] without them."""
