@@ -347,6 +347,14 @@ def test_a_given_flywheel_is_not_a_result_of_the_abstract(application, said):
     abstract = " ".join(re.sub(r"<[^>]+>", "", abstract).replace("\u202f", " ").split())
     assert said in abstract, abstract
     assert "момент інерції маховика 0,2" not in abstract
+    # its table checks the given flywheel (or propeller): it is neither chosen nor found
+    body = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    caption = (
+        "Нерівномірність обертання з повітряним гвинтом за енергетичним методом"
+        if application
+        else "Перевірка заданого маховика за енергетичним методом"
+    )
+    assert caption in body and "вибраного маховика" not in body
 
 
 def test_a_large_irregularity_at_a_lower_speed_is_said_to_be_beyond_the_energy_method():

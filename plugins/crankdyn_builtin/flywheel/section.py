@@ -45,7 +45,7 @@ def render(output: StageOutput, ctx) -> str:
         caption=t(
             "flywheel.table_caption_raised"
             if r.get("flywheel_raised")
-            else "flywheel.table_caption"
+            else "flywheel.table_caption" + ("_given" if r["flywheel_given"] else "")
         ),
         see=(
             ("flywheel.see_table_raised" if rim else "flywheel.see_table_raised_no_rim")
