@@ -358,3 +358,14 @@ def test_a_part_of_table_b3_without_the_torque_names_the_table_that_has_it():
     assert part, "the second part holds crank 5 and the torque"
     assert first.count(f"(table {part.group(1)})") == 2  # both extremes: largest and least
     assert "(table" not in second
+
+
+def test_the_dangerous_loads_table_says_its_q_leaves_the_counterweights_out():
+    """Table B.4's q is the textbook's, without the counterweights the bearings' loads take: its
+    caption says so where the shaft carries counterweights, and only there."""
+    every = {"balancing": {"counterweights": "every_crank"}}
+    caption = "(q without the counterweights' centrifugal forces) [1, table B.4]"
+    assert caption in _text("inline4-petrol", every, "en", ("torque", "balancing"))
+    assert "counterweights' centrifugal forces)" not in _text(
+        "inline4-petrol", None, "en", ("torque", "balancing")
+    )

@@ -244,8 +244,18 @@ def _danger_table(ctx, r, cranks: int) -> str:
                 ]
             ),
         ],
-        caption=t("torque.table_b4_caption" + single),
+        caption=_danger_caption(ctx, single),
         see="torque.see_table_b4_single" if cranks == 1 else "torque.see_table_b4",
+    )
+
+
+def _danger_caption(ctx, single: str) -> str:
+    """Table B.4's caption; where the shaft carries counterweights, which the textbook's q
+    leaves out (the bearings' loads take them), it says so."""
+    fitted = ctx.data(COUNTERWEIGHTS)
+    with_counterweights = fitted is not None and fitted.fitted
+    return ctx.t(
+        "torque.table_b4_caption" + single + ("_counterweights" if with_counterweights else "")
     )
 
 
