@@ -213,7 +213,7 @@ def test_the_running_torque_of_a_crank_is_in_the_list_of_an_engine_of_several_cr
     assert "tk – удельный набегающий момент на коренной шейке за коленом" in listed
     assert "|tk|" in _plain(v8)
     radial = _html("radial")
-    start = radial.index("Наиболее опасные сочетания сил, действующих на колено вала [")
+    start = radial.index("Наиболее опасные сочетания сил, действующих на колено вала")
     table = radial[start : radial.index("</table>", start)]
     assert "<th>Экстремальное значение</th>" in table
     assert "t</i><sub>Σ</sub>" not in table and "|t_Σ|" not in table

@@ -265,7 +265,7 @@ def _rods_table(ctx, r) -> str:
                 ("<i>p</i><sub>max</sub>, " + t("unit.MPa"), [x["max_MPa"] for x in rods], 2),
                 ("<i>p</i><sub>mean</sub>, " + t("unit.MPa"), [x["mean_MPa"] for x in rods], 2),
             ],
-            caption=t("bearings.rods_table_caption", width=ctx.num(width_mm, 4)),
+            caption=t("bearings.rods_table_caption", width=t.number_g(width_mm, 4)),
             see="bearings.see_rods",
         )
         + worked_bearing(ctx, r, "rod")
