@@ -637,7 +637,10 @@ def test_a_v_engines_note_gives_each_rod_bearings_pressure_and_what_c_holds():
     section = re.sub(r"<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", section, flags=re.S))
     rod = run("v8-petrol").outputs["bearings"].results["rod_bearings"][0]
     assert "each from its own rod's force only" in section
-    assert f"{rod['max_MPa']:.2f}" in section and f"{rod['width_m'] * 1e3:.2f}" in section
+    assert (
+        f"{rod['max_MPa']:.2f}" in section
+        and f"B\u00a0=\u00a0{rod['width_m'] * 1e3:.4g}\u202fmm" in section
+    )
     assert "of this cylinder's rod only" in html and "with the rods of all its cylinders" in html
 
 
