@@ -378,6 +378,14 @@ def test_a_large_irregularity_at_a_lower_speed_is_said_to_be_beyond_the_energy_m
     largest = max(row["irregularity"] for row in rows)
     assert largest > 0.25
     assert "Values of δ this large (up to 0.309) lie outside the energy method" in large
+    # a car's conclusions do not state that δ as a result: they say it lies beyond the method
+    car = {"flywheel": {"required_irregularity": 0.05}, "engine": {"application": "automotive"}}
+    html = shared_html("inline4-petrol", car, "en", ("flywheel",)).linked_html
+    said = " ".join(re.sub(r"<[^>]+>", "", html).split())
+    conclusions = said[said.rindex("Conclusions") :]
+    assert "would leave a δ above 0.25 with the full-load pressures" in conclusions
+    assert "0.309" not in conclusions
     small, rows = text(0.01)
     assert max(row["irregularity"] for row in rows) < 0.25
     assert "lie outside the energy method" not in small
+    assert "δ above 0.25" not in small

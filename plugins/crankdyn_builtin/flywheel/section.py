@@ -59,10 +59,13 @@ def render(output: StageOutput, ctx) -> str:
     else:
         _conclude(ctx, r)
         if low_speed is not None:
+            # a δ the energy method does not hold for is no result to conclude with
+            beyond = low_speed["irregularity"] >= LOWER_SPEED_BEYOND
             ctx.conclusions[-1] += " " + t(
-                "flywheel.conclusion_vehicle_low_speed",
+                "flywheel.conclusion_vehicle_low_speed" + ("_beyond" if beyond else ""),
                 rpm=t.number_g(low_speed["rpm"], 5),
                 delta=t.number_g(low_speed["irregularity"], 3),
+                limit=t.number_g(LOWER_SPEED_BEYOND, 2),
             )
         _conclude_rim_too_fast(ctx, r)
     opts = options(ctx.scene, "flywheel", FlywheelOptions)
@@ -74,6 +77,7 @@ def render(output: StageOutput, ctx) -> str:
         propeller=propeller,
         flywheel_carriers=FLYWHEEL_CARRIERS,
         vehicle_low_speed=low_speed is not None,
+        lower_speed_beyond=LOWER_SPEED_BEYOND,
         r=r,
         cylinders=ctx.scene.engine.cylinders,
         cranks=cranks,
@@ -319,6 +323,11 @@ def _conclude_rim_too_fast(ctx, r: dict) -> None:
 #: for starting, idling and moving off and for the clutch; an outboard motor's, the magneto's
 #: rotor with the starter's ring gear, for starting and idling (the "outboard" texts).
 FLYWHEEL_CARRIERS = ("automotive", "tractor", "motorcycle", "outboard")
+
+
+#: The δ from which the energy method's small-swing assumption no longer holds (the section
+#: says the lower speeds' values lie beyond it).
+LOWER_SPEED_BEYOND = 0.25
 
 
 def vehicle_low_speed(scene, r: dict) -> dict | None:
