@@ -1170,3 +1170,22 @@ def test_the_abstract_gives_the_crank_pins_load_with_the_tables_digits():
     printed = f"{pin['max_N'] / 1e3:.2f}".replace(".", ",")
     assert printed == "4,72"
     assert f"наибольшая нагрузка на шатунную шейку {printed}" in abstract.replace("\u202f", " ")
+
+
+def test_counterweights_asked_for_by_the_main_bearings_are_reconciled_with_the_balancing():
+    """An in-line four needs no counterweights for its free forces, so its balancing section
+    fits none; main journals too narrow for the cranks' centrifugal forces ask for them: the
+    bearings section and its conclusion say why the balancing section has none, and only then."""
+    import html as markup
+
+    def text(changes) -> str:
+        page = markup.unescape(shared_html("inline4-petrol", changes).linked_html)
+        return " ".join(re.sub(r"<[^>]+>", "", page).split())
+
+    narrow = {"bearings": {"main_journal_width": "10 mm"}}
+    said = "fits no counterweights, since the engine's free forces and moments need none"
+    found = text(narrow)
+    assert found.count(said) == 2  # the section and the conclusions
+    number = re.search(r"(\d+) Balancing of the engine", found).group(1)
+    assert f"Section {number} {said}" in found
+    assert said not in text({**narrow, "balancing": {"counterweights": "every_crank"}})

@@ -5,6 +5,7 @@ from __future__ import annotations
 from markupsafe import Markup
 
 from crankdyn.physics import bearings as brg
+from crankdyn.plugin.contracts import COUNTERWEIGHTS
 from crankdyn.plugin.scene_inputs import engine_layout
 from crankdyn.plugin.types import StageOutput, Symbol
 from crankdyn.scene import options
@@ -173,11 +174,26 @@ def _main_pressure(ctx, r) -> str:
         if assumed
         else ""
     )
-    return prefix + ctx.t(
-        "bearings.main_pressure_above" + _centrifugal_suffix(r, verdict),
-        **params,
-        diameter=ctx.t.number_g(diameter_m * 1e3, 4),
-        width_needed=ctx.num(verdict["area_needed_m2"] / diameter_m * 1e3),
+    suffix = _centrifugal_suffix(r, verdict)
+    return (
+        prefix
+        + ctx.t(
+            "bearings.main_pressure_above" + suffix,
+            **params,
+            diameter=ctx.t.number_g(diameter_m * 1e3, 4),
+            width_needed=ctx.num(verdict["area_needed_m2"] / diameter_m * 1e3),
+        )
+        + _none_fitted(ctx, suffix)
+    )
+
+
+def _none_fitted(ctx, suffix: str) -> str:
+    """Where counterweights are asked for the main bearings and the balancing section fitted
+    none (the free forces need none), the sentence that says so (with a leading space); ""."""
+    if not suffix or ctx.data(COUNTERWEIGHTS) is None:
+        return ""
+    return (
+        "" if ctx.data(COUNTERWEIGHTS).fitted else " " + ctx.t("bearings.counterweights_not_fitted")
     )
 
 
@@ -212,12 +228,14 @@ def _pressure_conclusion(ctx, r) -> str:
         )
     verdict = main_pressure_verdict(ctx.scene, r)
     if verdict is not None:
-        key = "above" + _centrifugal_suffix(r, verdict) if verdict["exceeded"] else "within"
+        suffix = _centrifugal_suffix(r, verdict) if verdict["exceeded"] else ""
+        key = "above" + suffix if verdict["exceeded"] else "within"
         sentences.append(
             t(
                 f"bearings.conclusion_main_pressure_{key}",
                 **_main_pressure_params(ctx, verdict, r["main_journals"]),
             )
+            + _none_fitted(ctx, suffix)
         )
     return " ".join(sentences)
 
