@@ -1189,3 +1189,20 @@ def test_counterweights_asked_for_by_the_main_bearings_are_reconciled_with_the_b
     number = re.search(r"(\d+) Balancing of the engine", found).group(1)
     assert f"Section {number} {said}" in found
     assert said not in text({**narrow, "balancing": {"counterweights": "every_crank"}})
+
+
+def test_an_english_note_names_a_single_crank_pin_with_its_article():
+    """ "The polar diagram of the load on crank pin is shown": one crank's pin is "the crank pin",
+    one of several is "crank pin 2"."""
+    import html as markup
+
+    def text(name) -> str:
+        page = markup.unescape(shared_html(name, None, "en").linked_html)
+        return " ".join(re.sub(r"<[^>]+>", "", page).split())
+
+    single = text("petrol-1cyl")
+    assert "The polar diagram of the load on the crank pin is shown" in single
+    assert "Wear diagram of the crank pin:" in single and "on crank pin " not in single
+    several = text("inline4-petrol")
+    assert re.search(r"Polar diagram of the load on crank pin \d", several)
+    assert not re.search(r"the crank pin \d", several)

@@ -337,13 +337,16 @@ def _wear_drawing(wear, r, k):
 def _crank_number(k, single: bool) -> dict:
     """``{k}`` of a sentence naming crank (pin) ``k`` ("на шатунну шийку{k}"): " 1", or nothing
     when there is one crank."""
-    return {"k": "" if single else f" {k}"}
+    return {"k": "" if single else f" {k}", "the": "the " if single else ""}
 
 
 def _one_of(t, key: str, k, single: bool, **values) -> str:
     """The catalog text ``key`` for crank (pin) ``k``, without the number when there is one crank."""
     return re.sub(
-        r"\s+([:;,.)])", r"\1", re.sub(r"\s+", " ", t(key, k="" if single else k, **values))
+        r"\s+([:;,.)])",
+        r"\1",
+        # "the crank pin" of one crank, "crank pin 2" of several (an English article)
+        re.sub(r"\s+", " ", t(key, k="" if single else k, the="the " if single else "", **values)),
     ).strip()
 
 
