@@ -1409,3 +1409,13 @@ def test_a_lone_letter_stays_with_the_word_its_hyphen_opens():
     assert "V-\u2060образного, W-\u2060подібного, V-\u2060twin;" in html
     assert "a-b, AB-C, X-5, 1-2" in html
     assert unbreakable_html(html) == html
+
+
+def test_an_engines_designation_stays_on_one_line():
+    """The assignment broke "6Ч | 8,4/8,96": the letters of a designation and its D/S are bound
+    by a no-break space; a word that merely starts with the letter is not."""
+    from crankdyn.report.typeset import unbreakable_html
+
+    html = unbreakable_html("<p>6ЧН 8,4/8,96, 4Ch 8.2/7.8 і 1Ч 10,5/12; Чорний 5/6</p>")
+    assert "6ЧН\u00a08,4/" in html and "4Ch\u00a08.2/" in html and "1Ч\u00a010,5/" in html
+    assert "Чорний 5/" in html

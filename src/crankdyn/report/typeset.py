@@ -1074,7 +1074,14 @@ _REFERENCE_NUMBER = re.compile(
 _LETTER_HYPHEN = re.compile(r"(?<![\w-])([A-Z])-(?=[^\W\d_])")
 
 
+#: An engine's designation by its cylinders and D/S in cm ("6ЧН 8,4/8,96", "4Ch 8.2/7.8"):
+#: the letters and the bore/stroke are one name, kept on one line.
+_DESIGNATION = re.compile(r"(?<!\w)(\d*(?:Ч|Ch|Д)[A-ZА-ЯҐЄІЇ]{0,3}) (?=\d+(?:[,.]\d+)?/\d)")
+
+
 def _unbreakable(text: str) -> str:
+    if "/" in text:
+        text = _DESIGNATION.sub("\\1\u00a0", text)
     if "-" in text:
         text = _LETTER_HYPHEN.sub("\\1-" + WORD_JOINER, text)
     text = _EQUALS_NUMBER.sub("\u00a0=\u00a0", text)
