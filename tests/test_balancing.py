@@ -1293,7 +1293,9 @@ def test_the_means_name_the_cranks_of_their_counterweights_and_only_what_they_ba
 
     every = {"balancing": {"counterweights": "every_crank"}}
     ru = text(every, "ru")
-    assert "Средства уравновешивания: по два противовеса на щеках каждого колена (всего 8) и два" in ru
+    assert (
+        "Средства уравновешивания: по два противовеса на щеках каждого колена (всего 8) и два" in ru
+    )
     assert "Противовесы (центр масс на радиусе" in ru
     assert "и уравновешивающие валы (центр масс на радиусе" in ru
     # the counterweights on every crank balance no free force here: the shafts balance ΣP_II
@@ -1684,3 +1686,24 @@ def test_a_means_table_of_counterweights_alone_gives_no_speed_column():
     assert r["counterweights"] and not r["balance_shafts"]
     assert "multiples of ω" not in means_table("v8-petrol")
     assert "multiples of ω" in means_table("inline4-petrol")  # Lanchester's shafts at 2ω
+
+
+def test_counterweights_that_change_no_free_force_are_no_means_of_the_abstract():
+    """An in-line six with counterweights on every crank: they relieve the main bearings and
+    change no free force, so the abstract says what the crank arrangement balances, not what
+    stays "after the balancing means are fitted"."""
+    import html as markup
+
+    from conftest import shared_html
+
+    every = {"balancing": {"counterweights": "every_crank"}}
+    page = markup.unescape(shared_html("inline6-diesel-trace", every, "en").linked_html)
+    abstract = " ".join(
+        re.sub(
+            r"<[^>]+>",
+            "",
+            re.search(r'<section class="abstract".*?</section>', page, re.S).group(0),
+        ).split()
+    )
+    assert "the arrangement of the cranks balances ΣC" in abstract
+    assert "balancing means fitted" not in abstract

@@ -118,7 +118,11 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
     # symbols ("ΣP_II, ΣP_IV"), or none
     left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
-    means = bool(r["counterweights"] or r["balance_shafts"])
+    # counterweights that change no free force (on every crank of an in-line six) are no means
+    # the abstract's "after the means" could speak of: the crank arrangement balances alone
+    means = bool(
+        r["balance_shafts"] or (r["counterweights"] and not _counterweights_internal_only(r))
+    )
     plane = "_plane" if one_plane(r) and not single else ""
     finding = (
         t(
