@@ -98,3 +98,20 @@ def test_a_sentence_paragraph_of_a_section_starts_with_the_paragraph_indent(css_
     lines_x = sorted({round(left, 1) for _, left, _, _ in boxes})
     assert first_x["Plain"] > lines_x[0]  # the plain paragraph is indented
     assert first_x["Classed"] == pytest.approx(first_x["Plain"])
+
+
+def test_a_long_supervisors_name_keeps_its_role_and_blank_on_its_line():
+    """The assignment's sign line ended with "Руководитель ____" and put "проф. Кузнецов Н. И."
+    alone under it: the role, its blank and the name break as one part."""
+    from conftest import shared_html
+
+    page = shared_html("petrol-1cyl", {"report": {"supervisor": "проф. Кузнецов Н. И."}}, "ru").html
+    line = next(p for p in page.split('<p class="sign-line">')[1:] if "Кузнецов" in p)
+    part = line[line.index('<span class="sign-part">') :]
+    assert part.index("Руководитель") < part.index("Кузнецов") < part.index("</span></span>")
+    body = f'<div class="assignment"><p class="sign-line">{line.split("</p>")[0]}</p></div>'
+    _, boxes = _boxes(body, "ru")
+    baselines = {
+        round(b, 1) for text, _, _, b in boxes if "Руководитель" in text or "Кузнецов" in text
+    }
+    assert len(baselines) == 1  # on one line, whichever it is
