@@ -115,14 +115,8 @@ def _finding(t, r, unbalanced, single: bool) -> str:
     """The abstract's words on the balance: which resultants stay unbalanced (with the fitted
     means, if any), by their symbols ("ΣP_II, ΣP_IV") or with their values, or none; what only
     the slave cylinders leave; the couples of rods side by side on one pin."""
-    # for the abstract: which resultants stay unbalanced (with the fitted means, if any), by their
-    # symbols ("ΣP_II, ΣP_IV"), or none
     left = [s for s in _left_unbalanced(r, unbalanced) if not _negligible(r, s)]
-    # counterweights that change no free force (on every crank of an in-line six) are no means
-    # the abstract's "after the means" could speak of: the crank arrangement balances alone
-    means = bool(
-        r["balance_shafts"] or (r["counterweights"] and not _counterweights_internal_only(r))
-    )
+    means = _changing_means(r)
     plane = "_plane" if one_plane(r) and not single else ""
     finding = (
         t(
@@ -180,6 +174,21 @@ def _finding(t, r, unbalanced, single: bool) -> str:
             count=len(r["balance_shafts"]),
             n=len(shaft_items),
         )
+    return _finding_couples(t, r, finding)
+
+
+def _changing_means(r) -> bool:
+    """Whether the balancing means change a free force or moment: counterweights that change
+    none (on every crank of an in-line six) are no means the abstract's "after the means" could
+    speak of, the crank arrangement balancing alone."""
+    return bool(
+        r["balance_shafts"] or (r["counterweights"] and not _counterweights_internal_only(r))
+    )
+
+
+def _finding_couples(t, r, finding: str) -> str:
+    """``finding`` followed by what only the slave cylinders leave, the couples of rods side by
+    side on one pin and the couple of a balance shaft beside the crankshaft, where there are any."""
     parts_left = mass_difference_items(t, r, whole_orders=False)
     if parts_left:  # the abstract names the whole orders left among the unbalanced already
         finding = t("balancing.finding_articulated", finding=finding, items=", ".join(parts_left))
