@@ -414,3 +414,24 @@ def test_kinematics_only_note_lists_what_it_uses_and_repeats_every_turn(planetar
     listed = re.findall(r"<li[^>]*>(.*?)</li>", html.split('class="references"')[-1], re.S)
     assert "Ismailov" in listed[int(number.group(1)) - 1]
     assert "Розділ про сили" not in html and "У розділі про сили" not in html
+
+
+@pytest.mark.parametrize(
+    ("language", "said"),
+    [
+        ("uk", "Для чотиритактного циклу вторинні ходи"),
+        ("en", "For a four-stroke cycle the secondary"),
+    ],
+)
+def test_the_secondary_strokes_are_judged_for_the_cycle_in_words(language, said):
+    """ "Для 4-тактного циклу": the number of strokes is written as a word in the sentence."""
+    import re
+
+    from conftest import shared_html
+
+    text = " ".join(
+        re.sub(
+            r"<[^>]+>", "", shared_html("planetary-kinematics", None, language).linked_html
+        ).split()
+    )
+    assert said in text and not re.search(r"\d-(?:тактн|stroke)", text)

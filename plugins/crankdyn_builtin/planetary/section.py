@@ -163,7 +163,7 @@ def _dead_centre_paragraphs(r, ctx) -> list[str]:
             **_conventional(r),
         )
     )
-    meaning = t("planetary.meaning", strokes=ctx.scene.engine.strokes)
+    meaning = t(f"planetary.meaning_{ctx.scene.engine.strokes}")
     dwell = _bdc_dwell(r)
     if dwell is not None:
         meaning += " " + t(
