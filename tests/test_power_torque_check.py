@@ -237,7 +237,10 @@ def test_the_running_torque_is_said_to_grow_towards_the_flywheel_only_where_its_
     page = shared_html("inline4-petrol", changes, "en", ("torque",)).linked_html
     text = " ".join(re.sub(r"<[^>]+>", "", page).split())
     amplitude = f"{journals[widest]['amplitude_Nm']:.1f}"
-    assert f"smallest values), {amplitude} N·m, which a fatigue check of a journal takes, is on the journal" in text
+    assert (
+        f"smallest values), {amplitude} N·m, which a fatigue check of a journal takes, is on the journal"
+        in text
+    )
     assert "after crank 3." in text and "grows towards the flywheel" not in text
     # where both grow, it is said as before
     plain = shared_html("inline4-petrol", None, "en", ("torque",)).linked_html

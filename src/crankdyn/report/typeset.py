@@ -1121,7 +1121,9 @@ def unbreakable_html(html: str) -> str:
         if i % 2 == 1:
             if part[1:2] in _SKIP_FIRST:  # most tags cannot open or close a skipped element
                 skip = _skip_depth(part, skip)
-        elif not skip and ("=" in part or "/" in part or ". " in part or "|" in part or "-" in part):
+        elif not skip and (
+            "=" in part or "/" in part or ". " in part or "|" in part or "-" in part
+        ):
             parts[i] = _unbreakable(part)
     return "".join(parts)
 
