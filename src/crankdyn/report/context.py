@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import html as html_lib
-import math
 import os
 import re
 from collections.abc import Callable, Sequence
@@ -350,15 +349,12 @@ class RenderContext:
         ]
         # a column of large values keeps at most TABLE_SIGNIFICANT digits (877 306 N·m, not 877 306,3)
         columns = [(h, values, table_decimals(values, d)) for h, values, d in columns]
-        # a column that holds five-digit numbers groups its four-digit ones too: "7 013" under
-        # "20 342", so that the digits line up by their groups
-        grouped = [d is not None and _has_five_digits(values, d) for _, values, d in columns]
         rows = []
         for i in range(n_rows):
             cells = []
-            for (_, values, decimals), words, group in zip(columns, wordy, grouped, strict=True):
+            for (_, values, decimals), words in zip(columns, wordy, strict=True):
                 v = values[i]
-                text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals, group))
+                text = escape(v) if decimals is None else escape(self.t.fixed(v, decimals))
                 text = text or "—"  # an empty cell gets a dash, as the standard asks
                 css = ' class="text"' if words else ""
                 # bold in the cells, not by a class: the Word export keeps it
@@ -541,19 +537,6 @@ class RenderContext:
         self.env.filters["degrees_and"] = self.t.degrees_and
         template = self.env.get_template(name)
         return template.render(ctx=self, _=self.t, num=self.num, eq=self.equation, **values)
-
-
-def _has_five_digits(values, decimals: int) -> bool:
-    """Whether any of a numeric column's ``values``, rounded to ``decimals``, has five or more
-    digits before the decimal sign."""
-    for v in values:
-        try:
-            number = float(v)
-        except (TypeError, ValueError):
-            continue
-        if math.isfinite(number) and abs(round(number, decimals)) >= 10000:
-            return True
-    return False
 
 
 def table_markup(

@@ -285,21 +285,19 @@ class Translator:
 
         return get_decimal_symbol(self.locale)
 
-    def fixed(self, value: float, decimals: int, grouped: bool = False) -> str:
+    def fixed(self, value: float, decimals: int) -> str:
         """``value`` with ``decimals`` decimals in the report's locale (Babel): decimal comma in
-        uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break
-        space; of four-digit ones too where ``grouped`` (a table column that also holds
-        five-digit numbers: its digits line up by their groups)."""
+        uk/ru, "−" for minus, digit groups of five-digit and longer numbers by a narrow no-break space."""
         if value is None or (isinstance(value, float) and math.isnan(value)):
             return "—"
         rounded = float(f"{float(value):.{decimals}f}")  # the digits printf would show
         if rounded == 0:
             rounded = 0.0  # no "−0,000"
-        return _format_fixed(rounded, decimals, self.locale, grouped)
+        return _format_fixed(rounded, decimals, self.locale)
 
 
 @functools.lru_cache(maxsize=16384)
-def _format_fixed(rounded: float, decimals: int, locale, grouped: bool = False) -> str:
+def _format_fixed(rounded: float, decimals: int, locale) -> str:
     """The text of an already rounded number in ``locale`` (a babel Locale), as Babel's
     ``format_decimal`` writes it with the pattern "0.00" (below 10 000) or "#,##0.00": the
     locale's decimal symbol, groups of three digits (the grouping of every language a report is
@@ -307,8 +305,7 @@ def _format_fixed(rounded: float, decimals: int, locale, grouped: bool = False) 
     rather than by Babel, which takes some 0.05 ms a number; kept, since tick labels and table
     cells repeat."""
     decimal, _group = _number_symbols(locale)
-    group = abs(rounded) >= (1000 if grouped else 10000)
-    digits = f"{abs(rounded):{',' if group else ''}.{decimals}f}"
+    digits = f"{abs(rounded):{',' if abs(rounded) >= 10000 else ''}.{decimals}f}"
     text = digits.replace(",", NARROW_NBSP).replace(".", decimal)
     return MINUS + text if rounded < 0 else text
 
